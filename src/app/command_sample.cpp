@@ -1,0 +1,17 @@
+#include <cstdio>
+
+#include "app/commands.hpp"
+#include "io/run_directory.hpp"
+#include "scene/scene.hpp"
+#include "sim/sample_report.hpp"
+
+namespace varsph {
+
+int command_sample(const CommandArgs& a) {
+  const scene::Scene s = scene::parse_scene(a.scene, a.overrides);
+  const auto dir = io::prepare_run_directory(a.output, s.name, a.overwrite, false);
+  std::fputs(write_sampled_particles(s, dir.root).c_str(), stdout);
+  return 0;
+}
+
+}  // namespace varsph

@@ -1,0 +1,20 @@
+#pragma once
+// The subcommands of `varsph`, each in its own file.
+#include <string>
+#include <vector>
+
+namespace varsph {
+
+struct CommandArgs {
+  std::vector<std::string> argv;
+  std::string scene, output, restart;
+  std::vector<std::string> overrides;
+  int threads = 0;
+  bool overwrite = false, quiet = false;
+};
+
+int command_run(const CommandArgs& a);
+int command_info(const CommandArgs& a);
+int command_sample(const CommandArgs& a);
+
+}  // namespace varsph

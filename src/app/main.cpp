@@ -1,0 +1,66 @@
+// The `varsph` command: run, info, sample (CONTRACT.md). Exit codes: 0 ok, 1 internal error,
+// 2 invalid input or usage, 3 numerical failure, 4 I/O failure, 130/143 interrupted.
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.hpp"
+#include "core/errors.hpp"
+
+int main(int argc, char** argv) {
+  using namespace varsph;
+  CLI::App app{"varsph: weakly-compressible SPH with variational time integration.\n"
+               "Scenes are JSON files (docs/scene.md); results are VTU/PVD for ParaView."};
+  app.set_version_flag("--version", std::string("varsph ") + VARSPH_VERSION + " (" + VARSPH_REAL_NAME + ")");
+  app.require_subcommand(1);
+
+  CommandArgs args;
+  args.argv.assign(argv, argv + argc);
+
+  auto* run = app.add_subcommand("run", "Run a scene; writes DIR/NAME.pvd, frames/, diagnostics.csv, run.json");
+  run->add_option("scene", args.scene, "Scene file (JSON)")->required();
+  run->add_option("-o,--output", args.output, "Run directory (default runs/NAME)");
+  run->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE (VALUE as JSON), repeatable");
+  run->add_option("--threads", args.threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
+  run->add_option("--restart", args.restart, "Continue from a checkpoint .h5");
+  run->add_flag("--overwrite", args.overwrite, "Replace an existing non-empty run directory");
+  run->add_flag("--quiet", args.quiet, "Print only errors");
+
+  auto* info = app.add_subcommand("info", "Print the resolved parameters of a scene without running it");
+  info->add_option("scene", args.scene, "Scene file (JSON)")->required();
+  info->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE");
+
+  auto* sample = app.add_subcommand("sample", "Geometry only: write the sampled particles as VTU and print statistics");
+  sample->add_option("scene", args.scene, "Scene file (JSON)")->required();
+  sample->add_option("-o,--output", args.output, "Output directory")->required();
+  sample->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE");
+  sample->add_flag("--overwrite", args.overwrite, "Replace an existing non-empty directory");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitInput;
+  }
+  try {
+    if (*run) return command_run(args);
+    if (*info) return command_info(args);
+    if (*sample) return command_sample(args);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "varsph: error: %s\n", e.what());
+    return kExitInput;
+  } catch (const NumericalError& e) {
+    std::fprintf(stderr, "varsph: numerical failure: %s\n", e.what());
+    return kExitNumerical;
+  } catch (const IoError& e) {
+    std::fprintf(stderr, "varsph: I/O error: %s\n", e.what());
+    return kExitIo;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "varsph: internal error (please report): %s\n", e.what());
+    return kExitInternal;
+  }
+  return kExitInternal;
+}

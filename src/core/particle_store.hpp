@@ -1,0 +1,161 @@
+#pragma once
+// One structure-of-arrays store for all particles. Every per-particle array is registered by name and
+// type, so sorting, checkpointing and export loop over the registry instead of a hand-kept list.
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "core/real.hpp"
+
+namespace varsph {
+
+enum class ScalarType { Float64, Float32, Int64, Int32 };
+
+template <class S>
+constexpr ScalarType scalar_type_of() {
+  if constexpr (std::is_same_v<S, double>) return ScalarType::Float64;
+  else if constexpr (std::is_same_v<S, float>) return ScalarType::Float32;
+  else if constexpr (std::is_same_v<S, std::int64_t>) return ScalarType::Int64;
+  else if constexpr (std::is_same_v<S, std::int32_t>) return ScalarType::Int32;
+  else static_assert(sizeof(S) == 0, "unsupported scalar type");
+}
+
+// What a field is for: export to VTU frames, store in checkpoints.
+struct FieldFlags {
+  bool exported = false;     // written to frames when output.fields asks for it (or by default)
+  bool checkpointed = true;  // saved in checkpoints (false only for scratch recomputed every step)
+};
+
+class FieldBase {
+ public:
+  FieldBase(std::string name, int components, ScalarType type, FieldFlags flags)
+      : name_(std::move(name)), components_(components), type_(type), flags_(flags) {}
+  virtual ~FieldBase() = default;
+  const std::string& name() const { return name_; }
+  int components() const { return components_; }
+  ScalarType scalar_type() const { return type_; }
+  const FieldFlags& flags() const { return flags_; }
+  virtual std::size_t size() const = 0;
+  virtual void resize(std::size_t n) = 0;
+  virtual const void* raw() const = 0;
+  virtual void* raw() = 0;
+  // out[k] = in[perm[k]] for every particle; `scratch` is reused to avoid allocation.
+  virtual void permute(std::span<const std::uint32_t> perm, std::vector<std::byte>& scratch) = 0;
+  std::size_t bytes_per_particle() const { return element_bytes_; }
+
+ protected:
+  std::size_t element_bytes_ = 0;
+
+ private:
+  std::string name_;
+  int components_;
+  ScalarType type_;
+  FieldFlags flags_;
+};
+
+template <class T, class = void>
+struct scalar_of {
+  using type = T;
+};
+template <class T>
+struct scalar_of<T, std::void_t<typename T::Scalar>> {
+  using type = typename T::Scalar;
+};
+
+// T is a scalar (double, float, int32, int64) or an Eigen fixed-size vector of them.
+template <class T>
+class Field final : public FieldBase {
+ public:
+  using Scalar = typename scalar_of<T>::type;
+  static constexpr int kComponents = std::is_arithmetic_v<T> ? 1 : int(sizeof(T) / sizeof(Scalar));
+
+  Field(std::string name, FieldFlags flags)
+      : FieldBase(std::move(name), kComponents, scalar_type_of<Scalar>(), flags) {
+    element_bytes_ = sizeof(T);
+  }
+  std::size_t size() const override { return data.size(); }
+  void resize(std::size_t n) override { data.resize(n); }
+  const void* raw() const override { return data.data(); }
+  void* raw() override { return data.data(); }
+  void permute(std::span<const std::uint32_t> perm, std::vector<std::byte>& scratch) override {
+    const std::size_t n = data.size();
+    scratch.resize(n * sizeof(T));
+    T* tmp = reinterpret_cast<T*>(scratch.data());
+    for (std::size_t k = 0; k < n; ++k) tmp[k] = data[perm[k]];
+    std::memcpy(static_cast<void*>(data.data()), tmp, n * sizeof(T));
+  }
+  T& operator[](std::size_t i) { return data[i]; }
+  const T& operator[](std::size_t i) const { return data[i]; }
+
+  std::vector<T> data;
+};
+
+class ParticleStore {
+ public:
+  ParticleStore() = default;
+  ParticleStore(const ParticleStore&) = delete;
+  ParticleStore& operator=(const ParticleStore&) = delete;
+
+  // Registers a field (or returns the existing one of the same name and type).
+  template <class T>
+  Field<T>& add(const std::string& name, FieldFlags flags = {}) {
+    if (FieldBase* f = find(name)) {
+      auto* typed = dynamic_cast<Field<T>*>(f);
+      if (!typed) throw std::logic_error("field '" + name + "' registered twice with different types");
+      return *typed;
+    }
+    auto field = std::make_unique<Field<T>>(name, flags);
+    field->resize(size_);
+    Field<T>& ref = *field;
+    fields_.push_back(std::move(field));
+    return ref;
+  }
+
+  template <class T>
+  Field<T>& get(const std::string& name) {
+    auto* typed = dynamic_cast<Field<T>*>(find(name));
+    if (!typed) throw std::logic_error("no field '" + name + "' of the requested type");
+    return *typed;
+  }
+
+  FieldBase* find(const std::string& name) {
+    for (auto& f : fields_)
+      if (f->name() == name) return f.get();
+    return nullptr;
+  }
+  const FieldBase* find(const std::string& name) const {
+    for (auto& f : fields_)
+      if (f->name() == name) return f.get();
+    return nullptr;
+  }
+
+  std::size_t size() const { return size_; }
+  void resize(std::size_t n) {
+    size_ = n;
+    for (auto& f : fields_) f->resize(n);
+  }
+  // Reorders every registered field: new[k] = old[perm[k]].
+  void permute(std::span<const std::uint32_t> perm) {
+    for (auto& f : fields_) f->permute(perm, scratch_);
+  }
+  const std::vector<std::unique_ptr<FieldBase>>& fields() const { return fields_; }
+
+  // Memory held by the particle arrays (for the bytes-per-particle report).
+  std::size_t bytes() const {
+    std::size_t b = 0;
+    for (auto& f : fields_) b += f->bytes_per_particle() * size_;
+    return b;
+  }
+
+ private:
+  std::size_t size_ = 0;
+  std::vector<std::unique_ptr<FieldBase>> fields_;
+  std::vector<std::byte> scratch_;
+};
+
+}  // namespace varsph

@@ -1,0 +1,17 @@
+// Integrator selection by name, once at setup.
+#include "core/errors.hpp"
+#include "integrators/verlet.hpp"
+
+namespace varsph {
+
+template <int D>
+std::unique_ptr<Integrator<D>> make_integrator(const scene::Scene& s) {
+  if (s.integrator == "verlet") return std::make_unique<VerletIntegrator<D>>();
+  throw InputError(s.file.string() + ": key 'integrator.type': \"" + s.integrator +
+                   "\" is not available in this build (available: \"verlet\")");
+}
+
+template std::unique_ptr<Integrator<2>> make_integrator<2>(const scene::Scene&);
+template std::unique_ptr<Integrator<3>> make_integrator<3>(const scene::Scene&);
+
+}  // namespace varsph

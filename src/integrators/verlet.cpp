@@ -1,0 +1,38 @@
+#include "integrators/verlet.hpp"
+
+#include "physics/pair_loop.hpp"
+
+namespace varsph {
+
+template <int D>
+void VerletIntegrator<D>::initialize(Simulation<D>& sim) {
+  auto& f = sim.fields();
+  const Vec<D> half_dt_g = Real(0.5 * sim.dt()) * sim.params().gravity;
+  for (std::size_t i = 0; i < sim.size(); ++i)
+    if (f.kind[i] == 0) f.v[i] -= half_dt_g;  // v(-1/2) = v(0) - dt g / 2
+}
+
+template <int D>
+StepReport VerletIntegrator<D>::step(Simulation<D>& sim) {
+  auto& f = sim.fields();
+  sim.rates().acceleration(sim.grid(), sim.current_view(), f.a.data.data());  // eq. (59)
+  sim.set_dt(sim.choose_dt());
+  const Real dt = Real(sim.dt());
+  Vec<D>* x = f.x.data.data();
+  Vec<D>* v = f.v.data.data();
+  const Vec<D>* a = f.a.data.data();
+  const std::int32_t* kind = f.kind.data.data();
+  for_each_particle(sim.size(), [&](std::size_t i) {
+    if (kind[i] != 0) return;
+    v[i] += dt * a[i];  // eq. (61)
+    x[i] += dt * v[i];  // eq. (62)
+  });
+  sim.sort_and_bin();
+  sim.update_density_after_move(dt);
+  return {};
+}
+
+template class VerletIntegrator<2>;
+template class VerletIntegrator<3>;
+
+}  // namespace varsph

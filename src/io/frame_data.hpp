@@ -1,0 +1,32 @@
+#pragma once
+// A dimension-free description of one output frame: points and named arrays pointing into the
+// particle store, plus the field data every VTU carries (CONTRACT.md).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/particle_store.hpp"
+
+namespace varsph::io {
+
+struct FrameArray {
+  std::string name;
+  const FieldBase* field;  // the registered array (components = dimension for vectors)
+  bool pad_to_3;           // vectors are written with 3 components also in 2D
+};
+
+struct FrameData {
+  int dimension = 2;
+  const FieldBase* positions = nullptr;
+  std::vector<FrameArray> arrays;
+  bool float64 = false;  // output.precision
+  // field data
+  double time = 0, dx = 0, h = 0, rho0 = 0, c0 = 0, support_radius = 0;
+  std::int64_t step = 0;
+  std::string kernel;
+};
+
+// Writes a VTU file (appended raw binary) atomically. IoError on failure.
+void write_vtu(const std::string& path, const FrameData& frame);
+
+}  // namespace varsph::io

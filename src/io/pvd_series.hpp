@@ -1,0 +1,31 @@
+#pragma once
+// The .pvd time series: rewritten atomically after every frame so it is valid XML at any moment.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace varsph::io {
+
+class PvdSeries {
+ public:
+  explicit PvdSeries(std::filesystem::path path) : path_(std::move(path)) {}
+  // Adds (or, for a restart, replaces every entry at or after `time`) and rewrites the file.
+  void add(double time, const std::string& relative_file);
+  // Drops entries with time > t (restart in the same directory), without writing.
+  void truncate_after(double t);
+  // Reads an existing series (restart); missing file = empty series.
+  void load();
+  void write() const;
+  const std::filesystem::path& path() const { return path_; }
+  std::size_t size() const { return entries_.size(); }
+
+ private:
+  struct Entry {
+    double time;
+    std::string file;
+  };
+  std::filesystem::path path_;
+  std::vector<Entry> entries_;
+};
+
+}  // namespace varsph::io

@@ -1,0 +1,230 @@
+#include "neighbors/neighbor_grid.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace varsph {
+
+template <int D>
+void NeighborGrid<D>::configure(const Options& opt) {
+  opt_ = opt;
+  if (!(opt.cell_size > 0)) throw std::invalid_argument("neighbour grid: cell size must be positive");
+  for (int a = 0; a < D; ++a) {
+    const double len = double(opt.max[a] - opt.min[a]);
+    if (opt.hashed) {
+      if (opt.periodic[a]) throw std::invalid_argument("hash grid: periodic axes need a bounded domain");
+      cell_[a] = opt.cell_size;
+      dims_[a] = 0;
+      continue;
+    }
+    if (!(len > 0)) throw std::invalid_argument("neighbour grid: empty domain on axis " + std::to_string(a));
+    std::int64_t n = std::max<std::int64_t>(1, std::int64_t(std::floor(len / double(opt.cell_size))));
+    if (opt.periodic[a] && n < 3)
+      throw std::invalid_argument("periodic axis " + std::to_string(a) +
+                                  " is shorter than 3 support radii; enlarge the domain");
+    dims_[a] = n;
+    cell_[a] = Real(len / double(n));
+  }
+  // periodic image shifts: wrap w in {-1, 0, 1} per axis; x_j + shift seen from a block
+  shifts_.clear();
+  const int n_images = D == 2 ? 9 : 27;
+  for (int s = 0; s < n_images; ++s) {
+    Vec<D> v = Vec<D>::Zero();
+    int t = s;
+    for (int a = 0; a < D; ++a) {
+      const int w = t % 3 - 1;
+      t /= 3;
+      v[a] = Real(w) * (opt.max[a] - opt.min[a]);
+    }
+    shifts_.push_back(v);
+  }
+}
+
+template <int D>
+std::uint32_t NeighborGrid<D>::shift_id(const std::array<int, D>& wrap) const {
+  std::uint32_t id = 0, mul = 1;
+  for (int a = 0; a < D; ++a) {
+    id += std::uint32_t(wrap[a] + 1) * mul;
+    mul *= 3;
+  }
+  return id;
+}
+
+template <int D>
+typename NeighborGrid<D>::Coord NeighborGrid<D>::coord_of(const Vec<D>& x) const {
+  Coord c;
+  for (int a = 0; a < D; ++a) {
+    const double f = std::floor(double(x[a] - opt_.min[a]) / double(cell_[a]));
+    if (opt_.hashed) {
+      c[a] = std::int64_t(std::clamp(f, -4.0e15, 4.0e15));
+    } else {
+      // particles outside a bounded domain are binned into the border cell (the health check flags them)
+      c[a] = std::int64_t(std::clamp(f, 0.0, double(dims_[a] - 1)));
+    }
+  }
+  return c;
+}
+
+template <int D>
+Vec<D> NeighborGrid<D>::wrap_shift(const Vec<D>& x) const {
+  Vec<D> s = Vec<D>::Zero();
+  for (int a = 0; a < D; ++a) {
+    if (!opt_.periodic[a]) continue;
+    const Real len = opt_.max[a] - opt_.min[a];
+    if (x[a] < opt_.min[a]) s[a] = len * std::ceil((opt_.min[a] - x[a]) / len);
+    else if (x[a] >= opt_.max[a]) s[a] = -len * std::floor((x[a] - opt_.min[a]) / len);
+  }
+  return s;
+}
+
+template <int D>
+void NeighborGrid<D>::build(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm) {
+  if (opt_.hashed) build_hashed(x, perm);
+  else build_uniform(x, perm);
+}
+
+template <int D>
+void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm) {
+  const std::size_t n = x.size();
+  std::int64_t n_cells = 1;
+  for (int a = 0; a < D; ++a) n_cells *= dims_[a];
+  key_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Coord c = coord_of(x[i]);
+    std::uint64_t k = 0;
+    for (int a = D - 1; a >= 0; --a) k = k * std::uint64_t(dims_[a]) + std::uint64_t(c[a]);
+    key_[i] = k;
+  }
+  // stable counting sort by cell
+  count_.assign(std::size_t(n_cells) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++count_[key_[i] + 1];
+  for (std::int64_t c = 0; c < n_cells; ++c) count_[c + 1] += count_[c];
+  perm.resize(n);
+  {
+    // count_[c] is the first slot of cell c; use a running cursor copy
+    std::vector<std::uint32_t>& cursor = bucket_start_;
+    cursor.assign(count_.begin(), count_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) perm[cursor[key_[i]]++] = std::uint32_t(i);
+  }
+  // blocks: occupied cells in cell order
+  blocks_.clear();
+  cell_block_.assign(std::size_t(n_cells), -1);
+  for (std::int64_t c = 0; c < n_cells; ++c) {
+    if (count_[c + 1] > count_[c]) {
+      cell_block_[c] = std::int64_t(blocks_.size());
+      blocks_.push_back({count_[c], count_[c + 1], 0, 0});
+    }
+  }
+  // neighbour ranges of every block
+  ranges_.clear();
+  const int n_off = D == 2 ? 9 : 27;
+  for (auto& b : blocks_) {
+    std::uint64_t k = key_[perm[b.begin]];
+    Coord c;
+    for (int a = 0; a < D; ++a) {
+      c[a] = std::int64_t(k % std::uint64_t(dims_[a]));
+      k /= std::uint64_t(dims_[a]);
+    }
+    b.nbr_begin = std::uint32_t(ranges_.size());
+    for (int o = 0; o < n_off; ++o) {
+      int t = o;
+      Coord nc;
+      std::array<int, D> wrap{};
+      bool valid = true;
+      for (int a = 0; a < D; ++a) {
+        const int d = t % 3 - 1;
+        t /= 3;
+        nc[a] = c[a] + d;
+        if (nc[a] < 0 || nc[a] >= dims_[a]) {
+          if (!opt_.periodic[a]) { valid = false; break; }
+          // the neighbour cell is the periodic image: x_j seen at x_j -/+ L
+          wrap[a] = nc[a] < 0 ? -1 : 1;
+          nc[a] = (nc[a] + dims_[a]) % dims_[a];
+        }
+      }
+      if (!valid) continue;
+      std::uint64_t nk = 0;
+      for (int a = D - 1; a >= 0; --a) nk = nk * std::uint64_t(dims_[a]) + std::uint64_t(nc[a]);
+      const std::int64_t nb = cell_block_[nk];
+      if (nb < 0) continue;
+      ranges_.push_back({blocks_[nb].begin, blocks_[nb].end, shift_id(wrap)});
+    }
+    b.nbr_end = std::uint32_t(ranges_.size());
+  }
+}
+
+namespace {
+inline std::uint64_t hash_coord(const std::int64_t* c, int d) {
+  // Teschner et al. 2003 spatial hash primes
+  static constexpr std::uint64_t primes[3] = {73856093ULL, 19349663ULL, 83492791ULL};
+  std::uint64_t h = 0;
+  for (int a = 0; a < d; ++a) h ^= std::uint64_t(c[a]) * primes[a];
+  return h;
+}
+}  // namespace
+
+template <int D>
+void NeighborGrid<D>::build_hashed(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm) {
+  const std::size_t n = x.size();
+  const std::size_t n_buckets = std::max<std::size_t>(64, std::bit_ceil(2 * n + 1));
+  coords_.resize(n);
+  key_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    coords_[i] = coord_of(x[i]);
+    key_[i] = hash_coord(coords_[i].data(), D) & (n_buckets - 1);
+  }
+  count_.assign(n_buckets + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++count_[key_[i] + 1];
+  for (std::size_t b = 0; b < n_buckets; ++b) count_[b + 1] += count_[b];
+  perm.resize(n);
+  bucket_start_.assign(count_.begin(), count_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) perm[bucket_start_[key_[i]]++] = std::uint32_t(i);
+  // inside a bucket, group particles of the same cell (stable: ties keep the original order)
+  for (std::size_t b = 0; b < n_buckets; ++b) {
+    auto first = perm.begin() + count_[b], last = perm.begin() + count_[b + 1];
+    if (last - first > 1)
+      std::stable_sort(first, last, [&](std::uint32_t p, std::uint32_t q) { return coords_[p] < coords_[q]; });
+  }
+  // blocks in sorted order; bucket_start_[b] = first block of bucket b
+  blocks_.clear();
+  bucket_start_.assign(n_buckets + 1, 0);
+  for (std::size_t b = 0; b < n_buckets; ++b) {
+    bucket_start_[b] = std::uint32_t(blocks_.size());
+    for (std::uint32_t s = count_[b]; s < count_[b + 1];) {
+      std::uint32_t e = s + 1;
+      while (e < count_[b + 1] && coords_[perm[e]] == coords_[perm[s]]) ++e;
+      blocks_.push_back({s, e, 0, 0});
+      s = e;
+    }
+  }
+  bucket_start_[n_buckets] = std::uint32_t(blocks_.size());
+  ranges_.clear();
+  const int n_off = D == 2 ? 9 : 27;
+  const std::array<int, D> no_wrap{};
+  for (auto& blk : blocks_) {
+    const Coord c = coords_[perm[blk.begin]];
+    blk.nbr_begin = std::uint32_t(ranges_.size());
+    for (int o = 0; o < n_off; ++o) {
+      int t = o;
+      Coord nc;
+      for (int a = 0; a < D; ++a) {
+        nc[a] = c[a] + (t % 3 - 1);
+        t /= 3;
+      }
+      const std::uint64_t b = hash_coord(nc.data(), D) & (n_buckets - 1);
+      for (std::uint32_t q = bucket_start_[b]; q < bucket_start_[b + 1]; ++q)
+        if (coords_[perm[blocks_[q].begin]] == nc)
+          ranges_.push_back({blocks_[q].begin, blocks_[q].end, shift_id(no_wrap)});
+    }
+    blk.nbr_end = std::uint32_t(ranges_.size());
+  }
+}
+
+template class NeighborGrid<2>;
+template class NeighborGrid<3>;
+
+}  // namespace varsph

@@ -1,0 +1,23 @@
+#pragma once
+// What the physics passes read: a configuration (positions), the velocities to use for viscosity and
+// continuity, densities, pressures, masses and kinds. The integrators point these at the current state
+// or at generalized-midpoint configurations (seed eq. 20-21, 30-31).
+#include <cstdint>
+#include <span>
+
+#include "core/real.hpp"
+
+namespace varsph::physics {
+
+template <int D>
+struct ParticleView {
+  std::span<const Vec<D>> x;
+  std::span<const Vec<D>> v;
+  std::span<const Real> rho;
+  std::span<const Real> p;
+  std::span<const Real> mass;
+  std::span<const std::int32_t> kind;
+  std::size_t size() const { return x.size(); }
+};
+
+}  // namespace varsph::physics

@@ -1,0 +1,285 @@
+#include "scene/json_reader.hpp"
+
+#include <fstream>
+#include <sstream>
+
+#include "core/errors.hpp"
+
+namespace varsph::scene {
+
+json::json_pointer pointer_of(const std::string& dotted) {
+  std::string p;
+  std::stringstream ss(dotted);
+  std::string part;
+  while (std::getline(ss, part, '.')) p += "/" + part;
+  return json::json_pointer(p);
+}
+
+JsonReader::JsonReader(json root, std::string file) : root_(std::move(root)), file_(std::move(file)) {
+  if (!root_.is_object()) throw InputError(file_ + ": expected a JSON object at the top level");
+}
+
+const json* JsonReader::raw(const std::string& path) const {
+  const auto ptr = pointer_of(path);
+  if (!root_.contains(ptr)) return nullptr;
+  return &root_.at(ptr);
+}
+
+bool JsonReader::has(const std::string& path) const {
+  const json* v = raw(path);
+  return v && !v->is_null();
+}
+
+void JsonReader::record(const std::string& path, const json& value) {
+  known_.insert(path);
+  resolved_[pointer_of(path)] = value;
+}
+
+void JsonReader::fail(const std::string& path, const std::string& expected) const {
+  throw InputError(file_ + ": key '" + path + "': expected " + expected);
+}
+void JsonReader::fail_got(const std::string& path, const std::string& expected, const json& got) const {
+  throw InputError(file_ + ": key '" + path + "': expected " + expected + ", got " + got.dump());
+}
+
+double JsonReader::number(const std::string& path, std::optional<double> def, double lo, double hi,
+                          const std::string& what) {
+  const json* v = raw(path);
+  double x;
+  if (!v || v->is_null()) {
+    if (!def) fail(path, what + " (required key is missing)");
+    x = *def;
+  } else {
+    if (!v->is_number()) fail_got(path, what, *v);
+    x = v->get<double>();
+    if (!(x >= lo && x <= hi))
+      fail_got(path, what + " in [" + json(lo).dump() + ", " + json(hi).dump() + "]", *v);
+  }
+  record(path, x);
+  return x;
+}
+
+double JsonReader::positive(const std::string& path, std::optional<double> def, const std::string& what) {
+  const json* v = raw(path);
+  if (v && v->is_number() && !(v->get<double>() > 0)) fail_got(path, "a positive " + what, *v);
+  return number(path, def, 0, 1e300, "a positive " + what);
+}
+
+long JsonReader::integer(const std::string& path, std::optional<long> def, long lo, long hi) {
+  const json* v = raw(path);
+  long x;
+  if (!v || v->is_null()) {
+    if (!def) fail(path, "an integer (required key is missing)");
+    x = *def;
+  } else {
+    if (!v->is_number_integer()) fail_got(path, "an integer", *v);
+    x = v->get<long>();
+    if (x < lo || x > hi)
+      fail_got(path, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", *v);
+  }
+  record(path, x);
+  return x;
+}
+
+bool JsonReader::boolean(const std::string& path, std::optional<bool> def) {
+  const json* v = raw(path);
+  bool x;
+  if (!v || v->is_null()) {
+    if (!def) fail(path, "true or false (required key is missing)");
+    x = *def;
+  } else {
+    if (!v->is_boolean()) fail_got(path, "true or false", *v);
+    x = v->get<bool>();
+  }
+  record(path, x);
+  return x;
+}
+
+std::string JsonReader::text(const std::string& path, std::optional<std::string> def) {
+  const json* v = raw(path);
+  std::string x;
+  if (!v || v->is_null()) {
+    if (!def) fail(path, "a string (required key is missing)");
+    x = *def;
+  } else {
+    if (!v->is_string()) fail_got(path, "a string", *v);
+    x = v->get<std::string>();
+  }
+  record(path, x);
+  return x;
+}
+
+std::string JsonReader::choice(const std::string& path, std::optional<std::string> def,
+                               const std::vector<std::string>& allowed) {
+  std::string list;
+  for (auto& a : allowed) list += (list.empty() ? "" : " | ") + ("\"" + a + "\"");
+  const json* v = raw(path);
+  if (v && !v->is_null() && !v->is_string()) fail_got(path, "one of " + list, *v);
+  const std::string x = text(path, def);
+  for (auto& a : allowed)
+    if (a == x) return x;
+  fail_got(path, "one of " + list, json(x));
+}
+
+std::vector<double> JsonReader::vector(const std::string& path, std::size_t size,
+                                       std::optional<std::vector<double>> def, const std::string& what) {
+  const json* v = raw(path);
+  std::vector<double> x;
+  const std::string expected = "an array of " + std::to_string(size) + " numbers (" + what + ")";
+  if (!v || v->is_null()) {
+    if (!def) fail(path, expected + " (required key is missing)");
+    x = *def;
+  } else {
+    if (!v->is_array() || v->size() != size) fail_got(path, expected, *v);
+    for (auto& e : *v) {
+      if (!e.is_number()) fail_got(path, expected, *v);
+      x.push_back(e.get<double>());
+    }
+  }
+  record(path, x);
+  return x;
+}
+
+std::vector<bool> JsonReader::bools(const std::string& path, std::size_t size,
+                                    std::optional<std::vector<bool>> def) {
+  const json* v = raw(path);
+  std::vector<bool> x;
+  const std::string expected = "an array of " + std::to_string(size) + " booleans";
+  if (!v || v->is_null()) {
+    if (!def) fail(path, expected + " (required key is missing)");
+    x = *def;
+  } else {
+    if (!v->is_array() || v->size() != size) fail_got(path, expected, *v);
+    for (auto& e : *v) {
+      if (!e.is_boolean()) fail_got(path, expected, *v);
+      x.push_back(e.get<bool>());
+    }
+  }
+  record(path, x);
+  return x;
+}
+
+std::vector<std::string> JsonReader::strings(const std::string& path,
+                                             std::optional<std::vector<std::string>> def) {
+  const json* v = raw(path);
+  std::vector<std::string> x;
+  if (!v || v->is_null()) {
+    if (!def) fail(path, "an array of strings (required key is missing)");
+    x = *def;
+  } else {
+    if (!v->is_array()) fail_got(path, "an array of strings", *v);
+    for (auto& e : *v) {
+      if (!e.is_string()) fail_got(path, "an array of strings", *v);
+      x.push_back(e.get<std::string>());
+    }
+  }
+  record(path, x);
+  return x;
+}
+
+std::size_t JsonReader::array_size(const std::string& path) {
+  const json* v = raw(path);
+  if (!v || v->is_null()) return 0;
+  if (!v->is_array()) fail_got(path, "an array", *v);
+  known_.insert(path);
+  return v->size();
+}
+
+json JsonReader::subtree(const std::string& path, const json& def) {
+  const json* v = raw(path);
+  json x = (v && !v->is_null()) ? *v : def;
+  known_subtrees_.insert(path);
+  resolved_[pointer_of(path)] = x;
+  return x;
+}
+
+namespace {
+void walk(const json& node, const std::string& path, std::vector<std::string>& out) {
+  if (node.is_object()) {
+    if (node.empty() && !path.empty()) out.push_back(path);
+    for (auto it = node.begin(); it != node.end(); ++it)
+      walk(it.value(), path.empty() ? it.key() : path + "." + it.key(), out);
+  } else if (node.is_array() && !node.empty() && (node[0].is_object())) {
+    for (std::size_t i = 0; i < node.size(); ++i) walk(node[i], path + "." + std::to_string(i), out);
+  } else {
+    out.push_back(path);
+  }
+}
+}  // namespace
+
+void JsonReader::check_unknown() const {
+  std::vector<std::string> leaves;
+  walk(root_, "", leaves);
+  for (const auto& leaf : leaves) {
+    if (leaf.empty() || known_.count(leaf)) continue;
+    bool under = false;
+    for (const auto& s : known_subtrees_)
+      if (leaf == s || leaf.rfind(s + ".", 0) == 0) under = true;
+    // "comment" keys are allowed anywhere for documentation
+    const auto last = leaf.substr(leaf.rfind('.') == std::string::npos ? 0 : leaf.rfind('.') + 1);
+    if (under || last == "comment" || last.rfind("_comment", 0) == 0 || last == "description") continue;
+    throw InputError(file_ + ": unknown key '" + leaf +
+                     "' (not part of the scene schema; see docs/scene.md)");
+  }
+}
+
+json read_json_file(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string() + ": cannot open scene file (does it exist and is it readable?)");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str();
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    // translate the byte offset into line:column
+    std::size_t line = 1, col = 1;
+    const std::size_t upto = std::min<std::size_t>(e.byte ? e.byte - 1 : 0, text.size());
+    for (std::size_t k = 0; k < upto; ++k) {
+      if (text[k] == '\n') { ++line; col = 1; } else { ++col; }
+    }
+    std::string msg = e.what();
+    const auto pos = msg.find("syntax error");
+    throw InputError(file.string() + ":" + std::to_string(line) + ":" + std::to_string(col) +
+                     ": JSON " + (pos != std::string::npos ? msg.substr(pos) : msg));
+  }
+}
+
+void apply_override(json& root, const std::string& assignment, const std::string& file) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set '" + assignment + "': expected KEY=VALUE (e.g. integrator.alpha=0.5)");
+  const std::string key = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  json value;
+  try {
+    value = json::parse(text);
+  } catch (const json::parse_error&) {
+    value = text;  // not valid JSON: taken as a string
+  }
+  json* node = &root;
+  std::stringstream ss(key);
+  std::string part;
+  std::vector<std::string> parts;
+  while (std::getline(ss, part, '.')) parts.push_back(part);
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const std::string& p = parts[k];
+    const bool last = k + 1 == parts.size();
+    if (node->is_array()) {
+      char* end = nullptr;
+      const long idx = std::strtol(p.c_str(), &end, 10);
+      if (*end != '\0' || idx < 0 || std::size_t(idx) >= node->size())
+        throw InputError(file + ": --set " + key + ": index '" + p + "' is out of range (the array has " +
+                         std::to_string(node->size()) + " elements)");
+      node = &(*node)[std::size_t(idx)];
+    } else {
+      if (node->is_null()) *node = json::object();
+      if (!node->is_object())
+        throw InputError(file + ": --set " + key + ": '" + p + "' is below a value that is not an object");
+      node = &(*node)[p];
+    }
+    if (last) *node = value;
+  }
+}
+
+}  // namespace varsph::scene

@@ -1,0 +1,216 @@
+// Scene schema: every key, its default, range and unit. docs/scene.md mirrors this file.
+#include <cmath>
+#include <limits>
+
+#include "core/errors.hpp"
+#include "scene/json_reader.hpp"
+#include "scene/scene.hpp"
+
+namespace varsph::scene {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string at(const std::string& base, const std::string& key) { return base + "." + key; }
+
+BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
+  BodySpec b;
+  b.kind = r.choice(at(base, "kind"), std::nullopt, {"fluid", "boundary"});
+  b.shape = r.choice(at(base, "shape"), r.has(at(base, "mesh")) ? std::optional<std::string>("mesh") : std::nullopt,
+                     {"box", "tank", "sphere", "points", "mesh"});
+  const std::vector<double> zero(dim, 0.0);
+  b.velocity = r.vector(at(base, "velocity"), dim, zero, "initial velocity [m/s]");
+  if (b.shape == "box" || b.shape == "tank") {
+    b.min = r.vector(at(base, "min"), dim, std::nullopt, "lower corner [m]");
+    b.max = r.vector(at(base, "max"), dim, std::nullopt, "upper corner [m]");
+    for (int a = 0; a < dim; ++a)
+      if (!(b.max[a] > b.min[a]))
+        r.fail(at(base, "max"), "max > min on every axis (axis " + std::to_string(a) + " is empty)");
+  }
+  if (b.shape == "tank") {
+    if (b.kind != "boundary") r.fail(at(base, "kind"), "\"boundary\" for a tank");
+    std::vector<bool> def(2 * dim, false);
+    def[2 * (dim - 1) + 1] = true;  // open top by default
+    b.open = r.bools(at(base, "open"), 2 * dim, def);
+  }
+  if (b.shape == "sphere") {
+    b.center = r.vector(at(base, "center"), dim, std::nullopt, "centre [m]");
+    b.radius = r.positive(at(base, "radius"), std::nullopt, "radius [m]");
+  }
+  if (b.shape == "points") {
+    const json* pts = r.raw(at(base, "points"));
+    if (!pts || !pts->is_array() || pts->empty()) r.fail(at(base, "points"), "a non-empty array of positions");
+    const std::size_t n = pts->size();
+    for (std::size_t k = 0; k < n; ++k)
+      b.points.push_back(r.vector(at(base, "points." + std::to_string(k)), dim, std::nullopt, "position [m]"));
+    r.subtree(at(base, "points"), *pts);
+    if (const json* vel = r.raw(at(base, "velocities"))) {
+      if (!vel->is_array() || vel->size() != n)
+        r.fail_got(at(base, "velocities"), "an array with one velocity per point", *vel);
+      for (std::size_t k = 0; k < n; ++k)
+        b.velocities.push_back(
+            r.vector(at(base, "velocities." + std::to_string(k)), dim, std::nullopt, "velocity [m/s]"));
+      r.subtree(at(base, "velocities"), *vel);
+    }
+  }
+  if (b.shape == "mesh") {
+    // mesh bodies: keys validated by the geometry module (docs/geometry.md)
+    b.mesh = json::object();
+    for (const char* key : {"mesh", "transform", "fill", "layer_side", "section", "clip_min", "clip_max",
+                            "min_distance", "allow_open"}) {
+      if (const json* v = r.raw(at(base, key))) b.mesh[key] = *v;
+      if (r.raw(at(base, key))) r.subtree(at(base, key), *r.raw(at(base, key)));
+    }
+    if (!b.mesh.contains("mesh")) r.fail(at(base, "mesh"), "a mesh file path (relative to the scene file)");
+  }
+  if (b.kind == "boundary")
+    b.layers = int(r.integer(at(base, "layers"), 1, 1, 16));
+  if (b.kind == "fluid") {
+    b.initial_pressure = r.choice(at(base, "initial_pressure"), "zero", {"zero", "hydrostatic"});
+    if (b.initial_pressure == "hydrostatic") {
+      double top = 0;
+      if (!b.max.empty()) top = b.max[dim - 1];
+      else if (!b.center.empty()) top = b.center[dim - 1] + b.radius;
+      b.free_surface = r.number(at(base, "free_surface"), top, -kInf, kInf, "free-surface level [m]");
+    }
+  }
+  return b;
+}
+
+}  // namespace
+
+Scene parse_scene_json(json root, const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  const std::string fname = file.string();
+  if (!root.is_object()) throw InputError(fname + ": expected a JSON object at the top level");
+  for (const auto& o : overrides) apply_override(root, o, fname);
+  JsonReader r(std::move(root), fname);
+  Scene s;
+  s.file = file;
+  s.name = r.text("name", std::nullopt);
+  if (s.name.empty() || s.name.find_first_of("/\\ ") != std::string::npos)
+    r.fail_got("name", "a non-empty name without spaces or slashes", json(s.name));
+  s.dimension = int(r.integer("dimension", std::nullopt, 2, 3));
+  const int d = s.dimension;
+
+  s.domain_min = r.vector("domain.min", d, std::nullopt, "lower corner of the domain [m]");
+  s.domain_max = r.vector("domain.max", d, std::nullopt, "upper corner of the domain [m]");
+  for (int a = 0; a < d; ++a)
+    if (!(s.domain_max[a] > s.domain_min[a]))
+      r.fail_got("domain.max", "domain.max > domain.min on every axis (the domain is empty on axis " +
+                                   std::to_string(a) + ")", json(s.domain_max));
+  s.periodic = r.bools("domain.periodic", d, std::vector<bool>(d, false));
+  s.neighbor_search = r.choice("domain.neighbor_search", "cell", {"cell", "hash"});
+
+  s.spacing = r.positive("particles.spacing", std::nullopt, "particle spacing dx [m]");
+
+  const std::string ktype =
+      r.choice("kernel.type", "gaussian", {"gaussian", "cubic_spline", "wendland_c2", "paper_literal"});
+  kernels::parse_kernel_type(ktype, s.kernel);
+  if (r.has("kernel.h")) {
+    s.h = r.positive("kernel.h", std::nullopt, "smoothing length h [m]");
+  } else {
+    const double ratio = r.number("kernel.h_over_dx", 1.2, 0.5, 10, "h/dx");
+    s.h = ratio * s.spacing;
+  }
+  if (s.kernel == kernels::KernelType::PaperLiteral) s.kernel_l = r.positive("kernel.l", 9.47, "kernel constant l");
+
+  s.gravity = r.vector("gravity", d, std::vector<double>(d, 0.0), "gravitational acceleration [m/s^2]");
+  s.rho0 = r.positive("fluid.rho0", 1000.0, "rest density rho0 [kg/m^3]");
+
+  const std::size_t nb = r.array_size("bodies");
+  if (nb == 0) r.fail("bodies", "a non-empty list of bodies (at least one with kind \"fluid\")");
+  bool any_fluid = false;
+  double fluid_height = 0;
+  for (std::size_t k = 0; k < nb; ++k) {
+    s.bodies.push_back(parse_body(r, "bodies." + std::to_string(k), d));
+    const BodySpec& b = s.bodies.back();
+    if (b.kind == "fluid") {
+      any_fluid = true;
+      if (!b.max.empty()) fluid_height = std::max(fluid_height, b.max[d - 1] - b.min[d - 1]);
+      if (!b.center.empty()) fluid_height = std::max(fluid_height, 2 * b.radius);
+    }
+  }
+  if (!any_fluid) r.fail("bodies", "at least one body with \"kind\": \"fluid\"");
+
+  // speed of sound: a number, or "auto" = factor x max(sqrt(2 g H), reference speed)
+  const double g = std::sqrt([&] { double q = 0; for (double x : s.gravity) q += x * x; return q; }());
+  const json* c0 = r.raw("fluid.c0");
+  if (c0 && c0->is_number()) {
+    s.c0 = r.positive("fluid.c0", std::nullopt, "speed of sound c0 [m/s]");
+    s.c0_rule = "given";
+  } else {
+    if (c0 && !(c0->is_string() && c0->get<std::string>() == "auto"))
+      r.fail_got("fluid.c0", "a positive number [m/s] or \"auto\"", *c0);
+    r.text("fluid.c0", "auto");
+    const double factor = r.positive("fluid.c0_factor", 10.0, "c0 factor");
+    const double H = r.number("fluid.reference_height", fluid_height, 0, kInf, "height H of the fluid [m]");
+    const double u_ref = r.number("fluid.reference_speed", 0.0, 0, kInf, "largest expected speed [m/s]");
+    const double u = std::max(std::sqrt(2 * g * H), u_ref);
+    if (!(u > 0))
+      r.fail("fluid.c0", "a number, or gravity and a fluid height / fluid.reference_speed for \"auto\"");
+    s.c0 = factor * u;
+    s.c0_rule = "auto: " + std::to_string(factor) + " x max(sqrt(2 g H), reference_speed)";
+  }
+
+  s.density = r.choice("physics.density", "continuity", {"continuity", "summation"});
+  if (r.has("physics.artificial_viscosity")) {
+    s.artificial_viscosity = true;
+    const json* av = r.raw("physics.artificial_viscosity");
+    if (!av->is_object()) r.fail_got("physics.artificial_viscosity", "an object {alpha, beta, epsilon}", *av);
+    r.mark_known("physics.artificial_viscosity");
+    s.av_alpha = r.number("physics.artificial_viscosity.alpha", 0.1, 0, 10, "linear coefficient alpha");
+    s.av_beta = r.number("physics.artificial_viscosity.beta", 0.0, 0, 10, "quadratic coefficient beta");
+    s.av_eps = r.number("physics.artificial_viscosity.epsilon", 0.01, 1e-6, 1, "eta^2/h^2 regulariser");
+  }
+
+  s.boundary_model = r.choice("boundary.model", "repulsive", {"repulsive", "dynamic"});
+  {
+    const double u2 = std::max(2 * g * fluid_height, 1e-12);
+    const json* D = r.raw("boundary.repulsive.D");
+    if (D && D->is_string() && D->get<std::string>() == "auto") {
+      r.text("boundary.repulsive.D", "auto");
+      s.wall_D = u2;
+    } else {
+      s.wall_D = r.number("boundary.repulsive.D", u2, 0, kInf, "wall strength D [m^2/s^2] or \"auto\" (2 g H)");
+    }
+    s.wall_r0 = s.spacing * r.positive("boundary.repulsive.r0_over_dx", 1.0, "r0 / dx");
+    s.wall_n1 = int(r.integer("boundary.repulsive.n1", 12, 1, 64));
+    s.wall_n2 = int(r.integer("boundary.repulsive.n2", 4, 1, 64));
+    if (s.wall_n2 >= s.wall_n1) r.fail("boundary.repulsive.n2", "n2 < n1");
+  }
+
+  s.integrator = r.choice("integrator.type", "verlet",
+                          {"verlet", "variational", "symplectic_euler", "rk4", "predictor_corrector"});
+  if (r.has("integrator.dt")) s.dt = r.positive("integrator.dt", std::nullopt, "time step dt [s]");
+  if (r.has("integrator.cfl")) s.cfl = r.number("integrator.cfl", std::nullopt, 1e-6, 1.0, "CFL number");
+  if (!s.dt && !s.cfl) r.fail("integrator.dt", "integrator.dt [s] or integrator.cfl (one of them is required)");
+  if (s.dt && s.cfl) r.fail("integrator.cfl", "only one of integrator.dt and integrator.cfl");
+  s.alpha = r.number("integrator.alpha", s.integrator == "variational" ? 0.5 : 1.0, 0, 1, "alpha in [0, 1]");
+  s.fp_tolerance = r.positive("integrator.fixed_point.tolerance", 1e-6, "tolerance relative to dx");
+  if (r.has("integrator.fixed_point.absolute_tolerance"))
+    s.fp_absolute_tolerance = r.positive("integrator.fixed_point.absolute_tolerance", std::nullopt, "tolerance [m]");
+  s.fp_max_iterations = int(r.integer("integrator.fixed_point.max_iterations", 50, 1, 100000));
+  s.fp_on_failure = r.choice("integrator.fixed_point.on_failure", "fail", {"fail", "halve_dt"});
+
+  s.t_end = r.positive("time.end", std::nullopt, "end time [s]");
+  s.output_every = r.positive("output.every", s.t_end / 50, "seconds between frames");
+  s.output_fields = r.strings("output.fields", std::vector<std::string>{"velocity", "density", "pressure", "mass",
+                                                                        "id", "kind", "normal"});
+  s.output_precision = r.choice("output.precision", "float32", {"float32", "float64"});
+  s.checkpoint_every = r.number("checkpoint.every", 0.0, 0, kInf, "simulated seconds between checkpoints");
+  s.checkpoint_wall_minutes = r.number("checkpoint.wall_minutes", 0.0, 0, kInf, "wall-clock minutes");
+  s.probes = r.subtree("probes", json::array());
+  if (!s.probes.is_array()) r.fail_got("probes", "a list of probes", s.probes);
+  s.max_density_error = r.number("health.max_density_error", 0.5, 1e-6, 100, "largest |rho/rho0 - 1|");
+  s.log_every_steps = int(r.integer("log.every_steps", 0, 0, 1000000000));
+
+  r.check_unknown();
+  s.resolved = r.resolved();
+  return s;
+}
+
+Scene parse_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides) {
+  return parse_scene_json(read_json_file(file), file, overrides);
+}
+
+}  // namespace varsph::scene

@@ -1,0 +1,90 @@
+#pragma once
+// A scene parsed and validated into plain structs (SI units). Every optional key has its default here
+// and in docs/scene.md; parse_scene() fills `resolved` with every parameter actually used.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "kernels/kernel_type.hpp"
+
+namespace varsph::scene {
+
+struct BodySpec {
+  std::string kind;   // "fluid" | "boundary"
+  std::string shape;  // "box" | "tank" | "sphere" | "points" | "mesh"
+  std::vector<double> min, max;           // box / tank corners [m]
+  std::vector<double> center;             // sphere / disc centre [m]
+  double radius = 0;                      // [m]
+  std::vector<std::vector<double>> points;      // shape "points": positions [m]
+  std::vector<std::vector<double>> velocities;  // shape "points": per-point velocities [m/s]
+  std::vector<double> velocity;           // initial velocity of the whole body [m/s]
+  std::vector<bool> open;                 // tank: per axis and side {min0,max0,min1,max1,...} left open
+  int layers = 1;                         // boundary particle layers (tank, box surface, mesh)
+  std::string initial_pressure = "zero";  // fluid: "zero" | "hydrostatic"
+  double free_surface = 0;                // hydrostatic: level of the free surface [m] (default body top)
+  nlohmann::json mesh;                    // shape "mesh": the body's mesh keys, for the geometry module
+};
+
+struct Scene {
+  std::filesystem::path file;
+  nlohmann::json resolved;  // every parameter with its value (defaults filled in)
+
+  std::string name;
+  int dimension = 2;
+  std::vector<double> domain_min, domain_max;
+  std::vector<bool> periodic;
+  std::string neighbor_search = "cell";  // "cell" (bounded grid) | "hash" (unbounded)
+
+  double spacing = 0;  // particles.spacing dx [m]
+
+  kernels::KernelType kernel = kernels::KernelType::Gaussian;
+  double h = 0;         // smoothing length [m]
+  double kernel_l = 9.47;
+
+  double rho0 = 1000;
+  double c0 = 0;               // resolved speed of sound [m/s]
+  std::string c0_rule;         // how c0 was obtained
+  std::vector<double> gravity;
+
+  std::vector<BodySpec> bodies;
+
+  // physics.*
+  std::string density = "continuity";  // "continuity" | "summation"
+  bool artificial_viscosity = false;
+  double av_alpha = 0, av_beta = 0, av_eps = 0.01;
+
+  // boundary.*
+  std::string boundary_model = "repulsive";  // "repulsive" | "dynamic"
+  double wall_D = 0, wall_r0 = 0;
+  int wall_n1 = 12, wall_n2 = 4;
+
+  // integrator.*
+  std::string integrator = "verlet";
+  std::optional<double> dt, cfl;
+  double alpha = 1.0;
+  double fp_tolerance = 1e-6;  // relative to dx
+  std::optional<double> fp_absolute_tolerance;  // [m], the paper's epsilon
+  int fp_max_iterations = 50;
+  std::string fp_on_failure = "fail";
+
+  double t_end = 0;
+  double output_every = 0;
+  std::vector<std::string> output_fields;
+  std::string output_precision = "float32";
+  double checkpoint_every = 0;  // [s] simulated, 0 = only at end
+  double checkpoint_wall_minutes = 0;
+  nlohmann::json probes;        // list, validated by the probes module
+  double max_density_error = 0.5;  // health: |rho/rho0 - 1| beyond this stops the run (exit 3)
+  int log_every_steps = 0;
+};
+
+// Parses and validates a scene file with --set overrides applied first (InputError on any problem).
+Scene parse_scene(const std::filesystem::path& file, const std::vector<std::string>& overrides = {});
+// Same from an already-loaded JSON (tests, checkpoints). `file` is used in messages and for relative paths.
+Scene parse_scene_json(nlohmann::json root, const std::filesystem::path& file,
+                       const std::vector<std::string>& overrides = {});
+
+}  // namespace varsph::scene

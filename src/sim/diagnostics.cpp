@@ -1,0 +1,91 @@
+#include "sim/diagnostics.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace varsph {
+
+double tait_internal_energy(double rho, double rho0, double B) {
+  const double r = rho / rho0;
+  const double r2 = r * r;
+  return B / rho0 * (r2 * r2 * r2 / 6.0 + 1.0 / r - 7.0 / 6.0);
+}
+
+template <int D>
+Diagnostics compute_diagnostics(const Simulation<D>& sim) {
+  const auto& f = sim.fields();
+  const auto& s = sim.scene();
+  Diagnostics d;
+  Vec<D> gmin;
+  for (int a = 0; a < D; ++a) gmin[a] = Real(s.domain_min[a]);
+  const double B = double(sim.eos().B);
+  std::size_t n_fluid = 0;
+  std::array<double, 3> L{};
+  // serial sums in storage order: deterministic for any thread count
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    if (f.kind[i] != 0) continue;
+    ++n_fluid;
+    const double m = f.mass[i];
+    const auto& v = f.v[i];
+    const auto& x = f.x[i];
+    for (int a = 0; a < D; ++a) d.momentum[a] += m * double(v[a]);
+    if constexpr (D == 2) {
+      L[2] += m * (double(x[0]) * double(v[1]) - double(x[1]) * double(v[0]));
+    } else {
+      L[0] += m * (double(x[1]) * double(v[2]) - double(x[2]) * double(v[1]));
+      L[1] += m * (double(x[2]) * double(v[0]) - double(x[0]) * double(v[2]));
+      L[2] += m * (double(x[0]) * double(v[1]) - double(x[1]) * double(v[0]));
+    }
+    const double v2 = double(v.squaredNorm());
+    d.kinetic_energy += 0.5 * m * v2;
+    d.potential_energy -= m * double(sim.params().gravity.dot(x - gmin));
+    d.internal_energy += m * tait_internal_energy(f.rho[i], s.rho0, B);
+    d.max_speed = std::max(d.max_speed, std::sqrt(v2));
+    d.density_error_max = std::max(d.density_error_max, std::abs(double(f.rho[i]) / s.rho0 - 1.0));
+  }
+  if (n_fluid > 0) {
+    const double q2 = d.momentum[0] * d.momentum[0] + d.momentum[1] * d.momentum[1] + d.momentum[2] * d.momentum[2];
+    d.momentum_Q = std::sqrt(q2) / double(n_fluid);
+  }
+  d.angular_momentum = D == 2 ? L[2] : std::sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
+  return d;
+}
+
+template <int D>
+std::string check_health(const Simulation<D>& sim) {
+  const auto& f = sim.fields();
+  const auto& s = sim.scene();
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    if (f.kind[i] != 0) continue;
+    const auto& x = f.x[i];
+    if (!x.allFinite() || !f.v[i].allFinite() || !std::isfinite(double(f.rho[i]))) {
+      std::ostringstream msg;
+      msg << "particle id " << f.id[i] << " has a non-finite position, velocity or density";
+      return msg.str();
+    }
+    for (int a = 0; a < D; ++a) {
+      if (s.periodic[a]) continue;
+      if (double(x[a]) < s.domain_min[a] || double(x[a]) > s.domain_max[a]) {
+        std::ostringstream msg;
+        msg << "particle id " << f.id[i] << " left the domain on axis " << a << " (coordinate " << double(x[a])
+            << ", domain [" << s.domain_min[a] << ", " << s.domain_max[a] << "])";
+        return msg.str();
+      }
+    }
+    const double err = std::abs(double(f.rho[i]) / s.rho0 - 1.0);
+    if (err > s.max_density_error) {
+      std::ostringstream msg;
+      msg << "particle id " << f.id[i] << " has density " << double(f.rho[i]) << " (|rho/rho0 - 1| = " << err
+          << " > health.max_density_error = " << s.max_density_error << ")";
+      return msg.str();
+    }
+  }
+  return {};
+}
+
+template Diagnostics compute_diagnostics<2>(const Simulation<2>&);
+template Diagnostics compute_diagnostics<3>(const Simulation<3>&);
+template std::string check_health<2>(const Simulation<2>&);
+template std::string check_health<3>(const Simulation<3>&);
+
+}  // namespace varsph

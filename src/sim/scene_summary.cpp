@@ -1,0 +1,81 @@
+#include "sim/scene_summary.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "physics/pair_loop.hpp"
+#include "sim/simulation.hpp"
+
+namespace varsph {
+namespace {
+
+template <int D>
+double mean_fluid_neighbours(const Simulation<D>& sim) {
+  const auto& grid = sim.grid();
+  const auto& x = sim.fields().x.data;
+  const Real rc2 = sim.rates().support() * sim.rates().support();
+  double total = 0;
+  std::size_t n = 0;
+  for (const auto& blk : grid.blocks())
+    for (std::uint32_t i = blk.begin; i < blk.end; ++i) {
+      if (sim.fields().kind[i] != 0) continue;
+      ++n;
+      for (std::uint32_t r = blk.nbr_begin; r < blk.nbr_end; ++r) {
+        const auto nr = grid.ranges()[r];
+        for (std::uint32_t j = nr.begin; j < nr.end; ++j)
+          if (j != i && (x[i] - grid.shift(nr.shift) - x[j]).squaredNorm() < rc2) total += 1;
+      }
+    }
+  return n ? total / double(n) : 0.0;
+}
+
+template <int D>
+std::string describe(const scene::Scene& s) {
+  Simulation<D> sim(s);
+  std::ostringstream o;
+  o.precision(6);
+  const double support = double(sim.rates().support());
+  o << "scene              " << s.name << " (" << s.file.string() << ")\n"
+    << "dimension          " << D << "\n"
+    << "particles          " << sim.count(0) << " fluid, " << sim.count(1) << " boundary\n"
+    << "dx                 " << s.spacing << " m\n"
+    << "kernel             " << kernels::to_string(s.kernel) << ", h = " << s.h << " m (h/dx = " << s.h / s.spacing
+    << "), support radius " << support << " m\n"
+    << "mean neighbours    " << mean_fluid_neighbours(sim) << " (fluid particles, within the support)\n"
+    << "rho0               " << s.rho0 << " kg/m^3\n"
+    << "c0                 " << s.c0 << " m/s (" << s.c0_rule << ")\n"
+    << "B                  " << double(sim.eos().B) << " Pa (eq. 11: c0^2 rho0 / 7)\n"
+    << "density            " << s.density << "\n"
+    << "viscosity          "
+    << (s.artificial_viscosity ? "artificial (alpha " + std::to_string(s.av_alpha) + ", beta " +
+                                     std::to_string(s.av_beta) + ")"
+                               : std::string("none"))
+    << "\n"
+    << "boundary           " << s.boundary_model << " (D " << s.wall_D << " m^2/s^2, r0 " << s.wall_r0 << " m)\n"
+    << "integrator         " << s.integrator << " (alpha " << s.alpha << ")\n";
+  const double acoustic = s.h / s.c0;
+  o << "dt                 " << (s.dt ? std::to_string(*s.dt) + " s (fixed)" : "CFL " + std::to_string(*s.cfl))
+    << "\n"
+    << "CFL limits         acoustic h/c0 = " << acoustic << " s; with C = 0.2: " << 0.2 * acoustic << " s";
+  const double g = std::sqrt(s.gravity[0] * s.gravity[0] + s.gravity[1] * s.gravity[1] +
+                             (D == 3 ? s.gravity[2] * s.gravity[2] : 0.0));
+  if (g > 0) o << "; force sqrt(h/g) = " << std::sqrt(s.h / g) << " s";
+  o << "\n";
+  // Rough eq. (54) estimate: dt < 1 / sqrt((1 - alpha) M2) with M2 ~ c0^2 / h^2 (the stiffness of the
+  // pressure term, |dH/dq| ~ B gamma / rho0 * |grad^2 W| ~ c0^2 / h^2)
+  if (s.alpha < 1) {
+    const double M2 = s.c0 * s.c0 / (s.h * s.h);
+    o << "variational bound  dt < " << 1.0 / std::sqrt((1 - s.alpha) * M2)
+      << " s (eq. 54 with M2 ~ c0^2/h^2 = " << M2 << " 1/s^2)\n";
+  } else {
+    o << "variational bound  none (alpha = 1 is explicit)\n";
+  }
+  o << "time.end           " << s.t_end << " s, frames every " << s.output_every << " s\n";
+  return o.str();
+}
+
+}  // namespace
+
+std::string describe_scene(const scene::Scene& s) { return s.dimension == 2 ? describe<2>(s) : describe<3>(s); }
+
+}  // namespace varsph

@@ -1,0 +1,178 @@
+#include "sim/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/errors.hpp"
+#include "physics/pair_loop.hpp"
+#include "sim/build_particles.hpp"
+
+namespace varsph {
+namespace {
+
+template <int D>
+physics::PhysicsParams<D> params_from(const scene::Scene& s) {
+  physics::PhysicsParams<D> p;
+  p.kernel = s.kernel;
+  p.h = Real(s.h);
+  p.kernel_l = Real(s.kernel_l);
+  p.rho0 = Real(s.rho0);
+  p.c0 = Real(s.c0);
+  for (int a = 0; a < D; ++a) p.gravity[a] = Real(s.gravity[a]);
+  p.density = s.density == "summation" ? physics::DensityMode::Summation : physics::DensityMode::Continuity;
+  p.artificial_viscosity = s.artificial_viscosity;
+  p.av_alpha = Real(s.av_alpha);
+  p.av_beta = Real(s.av_beta);
+  p.av_eps = Real(s.av_eps);
+  p.boundary = s.boundary_model == "dynamic" ? physics::BoundaryModel::Dynamic : physics::BoundaryModel::Repulsive;
+  p.wall_D = Real(s.wall_D);
+  p.wall_r0 = Real(s.wall_r0);
+  p.wall_n1 = s.wall_n1;
+  p.wall_n2 = s.wall_n2;
+  return p;
+}
+
+}  // namespace
+
+template <int D>
+Simulation<D>::Simulation(const scene::Scene& scene)
+    : scene_(scene), f_(store_), params_(params_from<D>(scene)), eos_(Real(scene.rho0), Real(scene.c0)) {
+  if (scene.dimension != D) throw std::logic_error("scene dimension does not match Simulation<D>");
+  rates_ = physics::make_rates<D>(params_);
+
+  InitialParticles<D> init = build_particles<D>(scene, double(eos_.B));
+  const std::size_t n = init.x.size();
+  if (n >= std::size_t(UINT32_MAX)) throw InputError(scene.file.string() + ": too many particles");
+  store_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    f_.x[i] = init.x[i];
+    f_.v[i] = init.v[i];
+    f_.a[i] = Vec<D>::Zero();
+    f_.rho[i] = init.rho[i];
+    f_.drho[i] = 0;
+    f_.mass[i] = init.mass[i];
+    f_.id[i] = std::int64_t(i);
+    f_.kind[i] = init.kind[i];
+    f_.normal[i] = init.normal[i];
+  }
+  n_fluid_ = init.count(0);
+  n_boundary_ = init.count(1);
+
+  integrator_ = make_integrator<D>(scene);
+  set_skin(0);
+  sort_and_bin();
+  if (params_.density == physics::DensityMode::Summation) {
+    const auto view = current_view();
+    rates_->summation_density(grid_, view, f_.rho.data.data());
+  }
+  update_pressure();
+  dt_ = scene.dt ? *scene.dt : cfl_dt();
+  integrator_->initialize(*this);
+}
+
+template <int D>
+std::size_t Simulation<D>::count(std::int32_t kind) const {
+  return kind == 0 ? n_fluid_ : n_boundary_;
+}
+
+template <int D>
+void Simulation<D>::set_skin(Real skin) {
+  skin_ = skin;
+  typename NeighborGrid<D>::Options o;
+  for (int a = 0; a < D; ++a) {
+    o.min[a] = Real(scene_.domain_min[a]);
+    o.max[a] = Real(scene_.domain_max[a]);
+    o.periodic[a] = scene_.periodic[a];
+  }
+  o.hashed = scene_.neighbor_search == "hash";
+  o.cell_size = rates_->support() + skin;
+  try {
+    grid_.configure(o);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(scene_.file.string() + ": domain: " + e.what());
+  }
+}
+
+template <int D>
+void Simulation<D>::sort_and_bin() {
+  auto& x = f_.x.data;
+  bool any_periodic = false;
+  for (int a = 0; a < D; ++a) any_periodic |= scene_.periodic[a];
+  if (any_periodic) {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const Vec<D> s = grid_.wrap_shift(x[i]);
+      if (s.squaredNorm() > 0) {
+        x[i] += s;
+        for (auto* f : position_like_) f->data[i] += s;
+      }
+    }
+  }
+  grid_.build(std::span<const Vec<D>>(x), perm_);
+  store_.permute(perm_);
+}
+
+template <int D>
+physics::ParticleView<D> Simulation<D>::current_view() const {
+  return {f_.x.data, f_.v.data, f_.rho.data, f_.p.data, f_.mass.data, f_.kind.data};
+}
+
+template <int D>
+void Simulation<D>::update_pressure() {
+  Real* p = f_.p.data.data();
+  const Real* rho = f_.rho.data.data();
+  const auto eos = eos_;
+  for_each_particle(store_.size(), [&](std::size_t i) { p[i] = eos.pressure(rho[i]); });
+}
+
+template <int D>
+void Simulation<D>::update_density_after_move(Real dt) {
+  const auto view = current_view();
+  if (params_.density == physics::DensityMode::Summation) {
+    rates_->summation_density(grid_, view, f_.rho.data.data());
+  } else {
+    Real* drho = f_.drho.data.data();
+    rates_->density_rate(grid_, view, drho);
+    Real* rho = f_.rho.data.data();
+    const std::int32_t* kind = f_.kind.data.data();
+    const bool walls = params_.boundary == physics::BoundaryModel::Dynamic;
+    for_each_particle(store_.size(), [&](std::size_t i) {
+      if (kind[i] == 0 || walls) rho[i] += dt * drho[i];
+    });
+  }
+  update_pressure();
+}
+
+template <int D>
+double Simulation<D>::cfl_dt() const {
+  // Monaghan's acoustic and force limits: dt = C min(h / (c0 + v_max), sqrt(h / a_max))
+  const double C = scene_.cfl ? *scene_.cfl : 0.2;
+  double vmax = 0, amax = 0;
+  for (std::size_t i = 0; i < store_.size(); ++i) {
+    if (f_.kind[i] != 0) continue;
+    vmax = std::max(vmax, double(f_.v[i].norm()));
+    amax = std::max(amax, double(f_.a[i].norm()));
+  }
+  const double h = scene_.h;
+  double dt = h / (scene_.c0 + vmax);
+  if (amax > 0) dt = std::min(dt, std::sqrt(h / amax));
+  return C * dt;
+}
+
+template <int D>
+double Simulation<D>::choose_dt() const {
+  return scene_.dt ? *scene_.dt : cfl_dt();
+}
+
+template <int D>
+const StepReport& Simulation<D>::advance() {
+  report_ = integrator_->step(*this);
+  ++step_;
+  // fixed dt: t = t0 + k dt exactly as two runs with the same dt compute it (frames match by time)
+  time_ += dt_;
+  return report_;
+}
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+}  // namespace varsph

@@ -1,0 +1,113 @@
+#pragma once
+// A scene resolved into one self-contained value: particle store, neighbour grid, the compiled physics
+// passes and the integrator. Nothing global: several simulations can live in one process.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/particle_store.hpp"
+#include "neighbors/neighbor_grid.hpp"
+#include "physics/eos.hpp"
+#include "physics/particle_view.hpp"
+#include "physics/physics_params.hpp"
+#include "physics/rates.hpp"
+#include "scene/scene.hpp"
+#include "sim/particle_fields.hpp"
+
+namespace varsph {
+
+template <int D>
+class Simulation;
+
+// Per-step integrator statistics (the fixed-point columns of diagnostics.csv for implicit schemes).
+struct StepReport {
+  int iterations = 0;         // fixed-point iterations (0 for explicit schemes)
+  double residual = 0;        // final max_i |q_{k+1;j} - q_{k+1;j-1}| [m]
+  double contraction = 0;     // largest observed r_j / r_{j-1}
+  double dt_bound = 0;        // eq. (54) estimate [s], 0 if not applicable
+};
+
+template <int D>
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  virtual const char* name() const = 0;
+  virtual bool implicit() const { return false; }
+  // Called once after the particles are built and binned (e.g. v(-1/2) of seed eq. 60).
+  virtual void initialize(Simulation<D>& sim) = 0;
+  // Advances the simulation by one step of length dt (chosen by the simulation's dt control).
+  virtual StepReport step(Simulation<D>& sim) = 0;
+};
+
+// Creates the integrator a scene names (InputError for names this build does not offer).
+template <int D>
+std::unique_ptr<Integrator<D>> make_integrator(const scene::Scene& s);
+
+template <int D>
+class Simulation {
+ public:
+  explicit Simulation(const scene::Scene& scene);
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  const scene::Scene& scene() const { return scene_; }
+  ParticleStore& store() { return store_; }
+  const ParticleStore& store() const { return store_; }
+  ParticleFields<D>& fields() { return f_; }
+  const ParticleFields<D>& fields() const { return f_; }
+  const NeighborGrid<D>& grid() const { return grid_; }
+  const physics::Rates<D>& rates() const { return *rates_; }
+  const physics::PhysicsParams<D>& params() const { return params_; }
+  const physics::TaitEos& eos() const { return eos_; }
+  Integrator<D>& integrator() { return *integrator_; }
+
+  double time() const { return time_; }
+  long step() const { return step_; }
+  double dt() const { return dt_; }
+  std::size_t count(std::int32_t kind) const;
+  std::size_t size() const { return store_.size(); }
+
+  // One step of the integrator; updates time, step and the step report.
+  const StepReport& advance();
+  const StepReport& last_report() const { return report_; }
+
+  // --- services for integrators -----------------------------------------------------------------
+  // Wraps periodic positions, sorts all particle arrays by cell (through the registry) and rebuilds
+  // the neighbour grid. `extra_skin` enlarges the cells so the grid stays valid while particles move
+  // less than extra_skin / 2 (the variational iterations reuse it).
+  void sort_and_bin();
+  // Extra shift applied to position-like fields (previous positions) when wrapping periodically.
+  void register_position_like(Field<Vec<D>>* f) { position_like_.push_back(f); }
+  void set_skin(Real skin);
+  Real skin() const { return skin_; }
+  // View of the current state (positions, velocities, densities, pressures).
+  physics::ParticleView<D> current_view() const;
+  void update_pressure();                  // p = EOS(rho) for every particle
+  void update_density_after_move(Real dt);  // continuity (rho += dt drho) or summation, then pressure
+  // dt for the next step from the scene's fixed dt or CFL rule, given the last accelerations.
+  double choose_dt() const;
+  void set_dt(double dt) { dt_ = dt; }
+  double cfl_dt() const;  // the CFL limit on the current state (for `info` and reports)
+  // Restores time/step counters (restart).
+  void set_clock(double time, long step) { time_ = time; step_ = step; }
+
+ private:
+  scene::Scene scene_;
+  ParticleStore store_;
+  ParticleFields<D> f_;
+  physics::PhysicsParams<D> params_;
+  physics::TaitEos eos_;
+  NeighborGrid<D> grid_;
+  std::unique_ptr<physics::Rates<D>> rates_;
+  std::unique_ptr<Integrator<D>> integrator_;
+  std::vector<Field<Vec<D>>*> position_like_;
+  std::vector<std::uint32_t> perm_;
+  std::size_t n_fluid_ = 0, n_boundary_ = 0;
+  Real skin_ = 0;
+  double time_ = 0, dt_ = 0;
+  long step_ = 0;
+  StepReport report_;
+};
+
+}  // namespace varsph

@@ -1,0 +1,125 @@
+// Whole small cases: hydrostatic tank, the paper's dam break, thread independence, a wall impact.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "scene/scene.hpp"
+#include "sim/diagnostics.hpp"
+#include "sim/simulation.hpp"
+#include "test_support.hpp"
+
+using namespace varsph;
+
+namespace {
+
+scene::Scene load(const std::string& file, const std::vector<std::string>& overrides = {}) {
+  return scene::parse_scene(test::source_dir() / "pipelines" / file, overrides);
+}
+
+template <int D>
+void run_until(Simulation<D>& sim, double t) {
+  while (sim.time() < t - 0.5 * sim.dt()) {
+    sim.advance();
+    ASSERT_EQ(check_health(sim), "") << "at step " << sim.step();
+  }
+}
+
+}  // namespace
+
+TEST(Cases, HydrostaticTankHoldsStillWithHydrostaticPressure) {
+  // pipelines/hydrostatic_2d.json (dynamic boundary particles), settled for 1 s
+  Simulation<2> sim(load("hydrostatic_2d.json", {"time.end=1.0"}));
+  run_until(sim, 1.0);
+  const double rho0 = 1000, g = 9.81, H = 0.3;
+  const auto& f = sim.fields();
+  // pressure averaged in 10 depth bands against rho0 g (H - y): within 2 % of rho0 g H everywhere
+  double sum[10] = {}, ysum[10] = {};
+  int cnt[10] = {};
+  double vmax = 0;
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    if (f.kind[i] != 0) continue;
+    const double x = f.x[i][0], y = f.x[i][1];
+    EXPECT_TRUE(x > 0 && x < 0.4 && y > 0 && y < 0.5) << "particle " << f.id[i] << " left the tank";
+    vmax = std::max(vmax, double(f.v[i].norm()));
+    const int b = std::clamp(int(y / (H / 10)), 0, 9);
+    sum[b] += f.p[i];
+    ysum[b] += y;
+    ++cnt[b];
+  }
+  for (int b = 0; b < 10; ++b) {
+    ASSERT_GT(cnt[b], 0);
+    const double y = ysum[b] / cnt[b], p = sum[b] / cnt[b];
+    EXPECT_NEAR(p, rho0 * g * (H - y), 0.02 * rho0 * g * H) << "band " << b << " at y = " << y;
+  }
+  EXPECT_LT(vmax, 0.01 * std::sqrt(g * H));
+}
+
+TEST(Cases, PaperDamBreakRunsAndTheSurgeFrontAdvances) {
+  Simulation<2> sim(load("dam_break_2d_paper.json"));
+  const auto front = [&] {
+    double xf = 0;
+    for (std::size_t i = 0; i < sim.size(); ++i)
+      if (sim.fields().kind[i] == 0) xf = std::max(xf, double(sim.fields().x[i][0]));
+    return xf;
+  };
+  double last = front();
+  EXPECT_NEAR(last, 0.1425, 1e-9);
+  for (double t : {0.1, 0.2, 0.3}) {
+    run_until(sim, t);
+    const double xf = front();
+    EXPECT_GT(xf, last + 0.02) << "front did not advance by t = " << t;
+    last = xf;
+  }
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    if (sim.fields().kind[i] != 0) continue;
+    const auto& x = sim.fields().x[i];
+    EXPECT_TRUE(x.allFinite());
+    EXPECT_TRUE(x[0] > 0 && x[0] < 0.58 && x[1] > 0 && x[1] < 0.6) << "particle outside the tank";
+  }
+  // Ritter's ideal dam-break front speed is 2 sqrt(g H) = 3.4 m/s; the real front is slower
+  EXPECT_LT(last, 0.1425 + 0.3 * 2 * std::sqrt(9.8 * 0.29));
+}
+
+TEST(Cases, OneAndTwoThreadsGiveBitwiseIdenticalResults) {
+  std::vector<std::vector<std::byte>> results;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    Simulation<2> sim(load("dam_break_2d_paper.json"));
+    for (int k = 0; k < 100; ++k) sim.advance();
+    std::vector<std::byte> bytes;
+    for (const auto& field : sim.store().fields()) {
+      const auto* p = static_cast<const std::byte*>(field->raw());
+      bytes.insert(bytes.end(), p, p + field->bytes_per_particle() * field->size());
+    }
+    results.push_back(bytes);
+  }
+  omp_set_num_threads(omp_get_num_procs());
+  ASSERT_EQ(results[0].size(), results[1].size());
+  EXPECT_EQ(std::memcmp(results[0].data(), results[1].data(), results[0].size()), 0);
+}
+
+TEST(Cases, ParticleThrownAtTheWallAtDamBreakSpeedDoesNotPassIt) {
+  // PAPER-NOTES.md: eq. (58) with D = 2 g H stops a particle at sqrt(2 g H) = 2.4 m/s
+  auto j = nlohmann::json::parse(R"({
+    "name": "impact", "dimension": 2,
+    "domain": {"min": [-0.05, -0.05], "max": [0.2, 0.2]},
+    "particles": {"spacing": 0.005},
+    "gravity": [0, -9.8],
+    "fluid": {"c0": 24},
+    "bodies": [{"kind": "fluid", "shape": "points", "points": [[0.05, 0.0125]], "velocities": [[0, -2.4]]},
+               {"kind": "boundary", "shape": "tank", "min": [0, 0], "max": [0.1, 0.1], "layers": 1}],
+    "boundary": {"repulsive": {"D": 5.684}},
+    "integrator": {"dt": 1e-5}, "time": {"end": 0.03}
+  })");
+  Simulation<2> sim(scene::parse_scene_json(j, "impact.json"));
+  double lowest = 1;
+  while (sim.time() < 0.03) {
+    sim.advance();
+    for (std::size_t i = 0; i < sim.size(); ++i)
+      if (sim.fields().kind[i] == 0) lowest = std::min(lowest, double(sim.fields().x[i][1]));
+  }
+  EXPECT_GT(lowest, -0.0025 + 0.001) << "the particle reached the wall particles' row";
+  EXPECT_LT(lowest, 0.0025) << "the particle should come close to the wall";
+}
