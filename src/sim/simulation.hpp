@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/particle_store.hpp"
 #include "neighbors/neighbor_grid.hpp"
 #include "physics/eos.hpp"
@@ -38,6 +40,10 @@ class Integrator {
   virtual void initialize(Simulation<D>& sim) = 0;
   // Advances the simulation by one step of length dt (chosen by the simulation's dt control).
   virtual StepReport step(Simulation<D>& sim) = 0;
+  // Scalar state later steps depend on beyond the registered particle fields (e.g. a dt controller's
+  // memory, a halving schedule), saved in checkpoints so a restarted run is bitwise identical.
+  virtual nlohmann::json save_state() const { return nlohmann::json::object(); }
+  virtual void restore_state(const nlohmann::json&) {}
 };
 
 // Creates the integrator a scene names (InputError for names this build does not offer).
