@@ -61,12 +61,13 @@ struct AccelerationPass {
   const ParticleView<D>& s;
   Vec<D> gravity;
   Vec<D>* acc_out;
+  const Real* p_over_rho2;  // p / rho^2 per particle, computed once per pass (not per pair)
   struct Acc {
     Vec<D> a;
     Real p_over_rho2;
   };
   bool active(std::size_t i) const { return s.kind[i] == kFluid; }
-  Acc begin(std::size_t i) const { return {Vec<D>::Zero(), s.p[i] / (s.rho[i] * s.rho[i])}; }
+  Acc begin(std::size_t i) const { return {Vec<D>::Zero(), p_over_rho2[i]}; }
   void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     const bool j_fluid = s.kind[j] == kFluid;
     if (!j_fluid) {
@@ -76,7 +77,7 @@ struct AccelerationPass {
       }
     }
     const Real F = W.grad_factor_r2(r2);  // grad_i W_ij = F x_ij
-    Real coef = acc.p_over_rho2 + s.p[j] / (s.rho[j] * s.rho[j]);
+    Real coef = acc.p_over_rho2 + p_over_rho2[j];
     if constexpr (Viscosity::enabled) coef += visc.pi((s.v[i] - s.v[j]).dot(xij), r2, s.rho[i], s.rho[j]);
     acc.a -= (s.mass[j] * coef * F) * xij;
   }

@@ -112,6 +112,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
     const double ratio = r.number("kernel.h_over_dx", 1.2, 0.5, 10, "h/dx");
     s.h = ratio * s.spacing;
   }
+  s.kernel_tabulated = r.boolean("kernel.tabulated", true);
   if (s.kernel == kernels::KernelType::PaperLiteral) s.kernel_l = r.positive("kernel.l", 9.47, "kernel constant l");
 
   s.gravity = r.vector("gravity", d, std::vector<double>(d, 0.0), "gravitational acceleration [m/s^2]");

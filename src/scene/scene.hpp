@@ -43,6 +43,7 @@ struct Scene {
   kernels::KernelType kernel = kernels::KernelType::Gaussian;
   double h = 0;         // smoothing length [m]
   double kernel_l = 9.47;
+  bool kernel_tabulated = true;
 
   double rho0 = 1000;
   double c0 = 0;               // resolved speed of sound [m/s]

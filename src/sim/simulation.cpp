@@ -16,6 +16,7 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
   p.kernel = s.kernel;
   p.h = Real(s.h);
   p.kernel_l = Real(s.kernel_l);
+  p.kernel_tabulated = s.kernel_tabulated;
   p.rho0 = Real(s.rho0);
   p.c0 = Real(s.c0);
   for (int a = 0; a < D; ++a) p.gravity[a] = Real(s.gravity[a]);
@@ -147,7 +148,9 @@ double Simulation<D>::cfl_dt() const {
   // Monaghan's acoustic and force limits: dt = C min(h / (c0 + v_max), sqrt(h / a_max))
   const double C = scene_.cfl ? *scene_.cfl : 0.2;
   double vmax = 0, amax = 0;
-  for (std::size_t i = 0; i < store_.size(); ++i) {
+  const long n = long(store_.size());
+#pragma omp parallel for schedule(static) reduction(max : vmax, amax)
+  for (long i = 0; i < n; ++i) {
     if (f_.kind[i] != 0) continue;
     vmax = std::max(vmax, double(f_.v[i].norm()));
     amax = std::max(amax, double(f_.a[i].norm()));
