@@ -84,4 +84,24 @@ struct AccelerationPass {
   void end(std::size_t i, const Acc& acc) const { acc_out[i] = acc.a + gravity; }
 };
 
+// Force of the fluid on boundary particles (probes: force and moment on a body). For boundary particle
+// b: F_b = - sum_{fluid i} m_i a_ib, where a_ib is exactly the pair term the acceleration pass adds to
+// fluid particle i for neighbour b (Newton's third law on the same pair terms: pressure, viscosity,
+// repulsive wall). Gravity is not a pair term and is not included. Writes only boundary slots.
+template <int D, class AccPass>
+struct BoundaryReactionPass {
+  const AccPass& acc_pass;
+  const ParticleView<D>& s;
+  Vec<D>* force;
+  bool active(std::size_t b) const { return s.kind[b] != kFluid; }
+  Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
+  void pair(Vec<D>& f, std::size_t b, std::size_t i, const Vec<D>& x_bi, Real r2) const {
+    if (s.kind[i] != kFluid) return;
+    auto a = acc_pass.begin(i);
+    acc_pass.pair(a, i, b, Vec<D>(-x_bi), r2);  // the term fluid i receives from b (x_ib = -x_bi)
+    f -= s.mass[i] * a.a;
+  }
+  void end(std::size_t b, const Vec<D>& f) const { force[b] = f; }
+};
+
 }  // namespace varsph::physics

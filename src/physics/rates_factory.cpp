@@ -34,6 +34,12 @@ class RatesImpl final : public Rates<D> {
     AccelerationPass<D, Kernel, Viscosity, M> pass{W_, visc_, wall_, s, p_.gravity, a, pr};
     for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
   }
+  void boundary_reaction(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* force) const override {
+    using Acc = AccelerationPass<D, Kernel, Viscosity, M>;
+    const Acc acc{W_, visc_, wall_, s, p_.gravity, nullptr};
+    BoundaryReactionPass<D, Acc> pass{acc, s, force};
+    for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+  }
   Real support() const override { return W_.support(); }
   Real kernel_w(Real r) const override { return r < W_.support() ? W_.w_r2(r * r) : Real(0); }
 

@@ -55,6 +55,7 @@ Simulation<D>::Simulation(const scene::Scene& scene)
     f_.id[i] = std::int64_t(i);
     f_.kind[i] = init.kind[i];
     f_.normal[i] = init.normal[i];
+    f_.body[i] = i < init.body.size() ? std::int32_t(init.body[i]) : -1;
   }
   n_fluid_ = init.count(0);
   n_boundary_ = init.count(1);
