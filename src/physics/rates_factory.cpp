@@ -28,19 +28,23 @@ class RatesImpl final : public Rates<D> {
     for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
   }
   void acceleration(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) const override {
-    p_over_rho2_.resize(s.size());  // grows once; no allocation in later steps
-    Real* pr = p_over_rho2_.data();
-    for_each_particle(s.size(), [&](std::size_t i) { pr[i] = s.p[i] / (s.rho[i] * s.rho[i]); });
-    AccelerationPass<D, Kernel, Viscosity, M> pass{W_, visc_, wall_, s, p_.gravity, a, pr};
+    AccelerationPass<D, Kernel, Viscosity, M> pass{W_, visc_, wall_, s, p_.gravity, a, pressure_terms(s)};
     for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
   }
   void boundary_reaction(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* force) const override {
     using Acc = AccelerationPass<D, Kernel, Viscosity, M>;
-    const Acc acc{W_, visc_, wall_, s, p_.gravity, nullptr};
+    const Acc acc{W_, visc_, wall_, s, p_.gravity, nullptr, pressure_terms(s)};
     BoundaryReactionPass<D, Acc> pass{acc, s, force};
     for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
   }
   Real support() const override { return W_.support(); }
+  // p / rho^2 of every particle, once per pass instead of once per pair (scratch grows once)
+  const Real* pressure_terms(const ParticleView<D>& s) const {
+    p_over_rho2_.resize(s.size());
+    Real* pr = p_over_rho2_.data();
+    for_each_particle(s.size(), [&](std::size_t i) { pr[i] = s.p[i] / (s.rho[i] * s.rho[i]); });
+    return pr;
+  }
   Real kernel_w(Real r) const override { return r < W_.support() ? W_.w_r2(r * r) : Real(0); }
 
  private:
