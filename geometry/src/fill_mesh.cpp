@@ -26,7 +26,7 @@ Eigen::MatrixXd fill_mesh(const TriangleMesh& tm, double dx, const Eigen::Vector
   CGAL::Side_of_triangle_mesh<Mesh, K> inside(mesh);
   Eigen::Vector3i n;
   for (int a = 0; a < 3; ++a)
-    n[a] = std::max(0, static_cast<int>(std::floor((box_max[a] - box_min[a]) / dx + 1e-9)));
+    n[a] = std::max(0, static_cast<int>(std::ceil((box_max[a] - box_min[a]) / dx - 0.5 - 1e-9)));  // centres below box_max
   // only the part of the box that overlaps the mesh bounding box can hold points
   const Eigen::Vector3d lo = tm.V.colwise().minCoeff().transpose(), hi = tm.V.colwise().maxCoeff().transpose();
   Eigen::Vector3i i0, i1;

@@ -17,8 +17,8 @@ double signed_area(const Eigen::MatrixXd& P) {
 
 Eigen::MatrixXd fill_polygons(const std::vector<Polyline2>& loops, double dx,
                               const Eigen::Vector2d& box_min, const Eigen::Vector2d& box_max) {
-  const int nx = std::max(0, static_cast<int>(std::floor((box_max.x() - box_min.x()) / dx + 1e-9)));
-  const int ny = std::max(0, static_cast<int>(std::floor((box_max.y() - box_min.y()) / dx + 1e-9)));
+  const int nx = std::max(0, static_cast<int>(std::ceil((box_max.x() - box_min.x()) / dx - 0.5 - 1e-9)));
+  const int ny = std::max(0, static_cast<int>(std::ceil((box_max.y() - box_min.y()) / dx - 0.5 - 1e-9)));
   std::vector<Eigen::Vector2d> pts;
   std::vector<double> xs;
   for (int j = 0; j < ny; ++j) {

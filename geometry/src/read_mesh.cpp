@@ -12,6 +12,7 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
+#include <array>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -30,6 +31,32 @@ std::string lower_ext(const std::filesystem::path& p) {
   std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
   return e;
 }
+// Vertices sorted lexicographically, each face rotated to start at its smallest vertex (orientation
+// kept), faces sorted: the result no longer depends on the order the file listed them in, so every
+// file format of the same mesh gives the same particles.
+void canonical_order(Eigen::MatrixXd& V, Eigen::MatrixXi& F) {
+  const int nv = static_cast<int>(V.rows()), nf = static_cast<int>(F.rows());
+  std::vector<int> order(nv);
+  for (int i = 0; i < nv; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    for (int k = 0; k < 3; ++k)
+      if (V(a, k) != V(b, k)) return V(a, k) < V(b, k);
+    return a < b;
+  });
+  std::vector<int> inv(nv);
+  Eigen::MatrixXd V2(nv, 3);
+  for (int i = 0; i < nv; ++i) { V2.row(i) = V.row(order[i]); inv[order[i]] = i; }
+  std::vector<std::array<int, 3>> faces(nf);
+  for (int f = 0; f < nf; ++f) {
+    std::array<int, 3> t{inv[F(f, 0)], inv[F(f, 1)], inv[F(f, 2)]};
+    while (t[0] > t[1] || t[0] > t[2]) t = {t[1], t[2], t[0]};
+    faces[f] = t;
+  }
+  std::sort(faces.begin(), faces.end());
+  for (int f = 0; f < nf; ++f) F.row(f) << faces[f][0], faces[f][1], faces[f][2];
+  V = V2;
+}
+
 }  // namespace
 
 TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d& T,
@@ -149,6 +176,7 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
     for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) out.F(i, c++) = vid[v];
     ++i;
   }
+  canonical_order(out.V, out.F);
   return out;
 }
 

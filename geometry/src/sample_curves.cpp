@@ -45,6 +45,8 @@ void sample_curves(const std::vector<Polyline2>& lines, double dx, int layers, i
     if (nv < 2) continue;
     const bool closed = line.closed && nv >= 3;
     const int ns = closed ? nv : nv - 1;
+    const std::size_t line_begin = base.size();
+    std::vector<std::pair<int, double>> pending_half;
     std::vector<Vector2d> P(nv);
     for (int i = 0; i < nv; ++i) P[i] = line.P.row(i).transpose();
     std::vector<Vector2d> sn(ns);
@@ -140,16 +142,13 @@ void sample_curves(const std::vector<Polyline2>& lines, double dx, int layers, i
         base.add(lift(p), lift(n), w);
         base_straight.push_back(straight && !(j == 0 && !whole_loop));
       }
-      // the corner at the end of this piece gets the other half interval
-      if (!whole_loop && !last_end) {
-        const int vend = (first + count) % nv;
-        for (std::size_t q = 0; q < base.size(); ++q)
-          if ((base.x[q] - lift(P[vend])).squaredNorm() == 0.0) { base.w[q] += 0.5 * step; break; }
-      }
+      // the corner at the end of this piece gets the other half interval (once it exists)
+      if (!whole_loop && !last_end) pending_half.push_back({(first + count) % nv, 0.5 * step});
     }
+    for (const auto& [vend, half] : pending_half)
+      for (std::size_t q = line_begin; q < base.size(); ++q)
+        if ((base.x[q] - lift(P[vend])).squaredNorm() == 0.0) { base.w[q] += half; break; }
   }
-  // the corner that opens the walk of a closed loop is placed before the closing piece is known;
-  // its other half interval was added in the loop above once that piece was done.
 
   std::vector<Vector3d> xs, ns3;
   std::vector<double> as;

@@ -1,4 +1,5 @@
 #include "varsph/geometry/sample_surface.h"
+#include <Eigen/Geometry>
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -127,6 +128,42 @@ void barycentric_grid(int m, F&& f) {
     }
 }
 
+// Points of the square lattice of spacing h in the plane of (a, b, c), axis along the longest edge,
+// clipped to the triangle (the centroid if none falls inside): about area/h^2 points for any shape.
+template <class F>
+void triangle_lattice(const Vector3d& a, const Vector3d& b, const Vector3d& c, double h, F&& f) {
+  const Vector3d P[3] = {a, b, c};
+  int e = 0;
+  double best = -1;
+  for (int i = 0; i < 3; ++i) {
+    const double l = (P[(i + 1) % 3] - P[i]).squaredNorm();
+    if (l > best) { best = l; e = i; }
+  }
+  const Vector3d o = P[e], u = (P[(e + 1) % 3] - o).normalized();
+  const Vector3d n = (b - a).cross(c - a).normalized();
+  const Vector3d v = n.cross(u);
+  const Vector2d q[3] = {{0, 0}, {(P[(e + 1) % 3] - o).dot(u), 0}, {(P[(e + 2) % 3] - o).dot(u), (P[(e + 2) % 3] - o).dot(v)}};
+  // q is counter-clockwise (v points towards the third vertex)
+  const double umax = q[1].x(), vmax = q[2].y();
+  const double umin = std::min(0.0, q[2].x()), umax2 = std::max(umax, q[2].x());
+  int count = 0;
+  for (int j = 0; (j + 0.5) * h < vmax; ++j)
+    for (int i = static_cast<int>(std::floor(umin / h)); (i + 0.5) * h < umax2; ++i) {
+      const Vector2d p((i + 0.5) * h, (j + 0.5) * h);
+      bool in = true;
+      for (int k = 0; k < 3 && in; ++k) {
+        const Vector2d& s0 = q[k];
+        const Vector2d& s1 = q[(k + 1) % 3];
+        in = (s1.x() - s0.x()) * (p.y() - s0.y()) - (s1.y() - s0.y()) * (p.x() - s0.x()) >= 0;
+      }
+      if (!in) continue;
+      f(Vector3d(o + p.x() * u + p.y() * v), 0);
+      ++count;
+    }
+  if (count == 0) f(Vector3d((a + b + c) / 3.0), 0);
+  f(Vector3d::Zero(), count == 0 ? 1 : count);  // end marker with the number of points
+}
+
 }  // namespace
 
 void sample_surface(const TriangleMesh& mesh, double dx, int layers, int side, Eigen::MatrixXd& X,
@@ -234,13 +271,13 @@ void sample_surface(const TriangleMesh& mesh, double dx, int layers, int side, E
     }
     for (int f : curved) {
       const Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-      const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-      const int m = std::max(1, static_cast<int>(std::ceil(longest / h)));
-      const double w = fa[f] / (static_cast<double>(m) * m);
       const Vector3d push = s * off * fn[f];
-      barycentric_grid(m, [&](double wb, double wc) {
-        const Vector3d p = a + wb * (b - a) + wc * (c - a) + push;
-        if (keep(p)) cand.add(p, fn[f], w);
+      std::vector<Vector3d> pts;
+      triangle_lattice(a, b, c, h, [&](const Vector3d& p, int count) {
+        if (count == 0) { pts.push_back(p); return; }
+        const double w = fa[f] / count;
+        for (const auto& q : pts)
+          if (keep(q + push)) cand.add(q + push, fn[f], w);
       });
     }
     if (k > 0) {

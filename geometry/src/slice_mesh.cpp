@@ -1,4 +1,5 @@
 #include "varsph/geometry/slice_mesh.h"
+#include <Eigen/Geometry>
 
 #include <CGAL/AABB_halfedge_graph_segment_primitive.h>
 #include <CGAL/AABB_traits.h>

@@ -9,7 +9,7 @@ namespace varsph::geometry {
 // Inputs:
 //   mesh            closed triangle mesh
 //   dx              spacing [m]
-//   box_min,box_max 3 each: lattice box; points are box_min + (i + 1/2) dx for 0 <= i < floor((max-min)/dx + 1e-9)
+//   box_min,box_max 3 each: lattice box; points are box_min + (i + 1/2) dx with centres below box_max
 // Returns #N by 3 positions.
 Eigen::MatrixXd fill_mesh(const TriangleMesh& mesh, double dx, const Eigen::Vector3d& box_min,
                           const Eigen::Vector3d& box_max);
