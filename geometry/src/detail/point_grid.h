@@ -2,6 +2,7 @@
 // Internal: a uniform hash grid over 3D points (2D points use z = 0), insert-only, linked lists.
 #include <Eigen/Core>
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -30,6 +31,12 @@ class PointGrid {
       if (!found && (pts_[i] - p).squaredNorm() < r2) found = true;
     });
     return found;
+  }
+  // distance to the nearest stored point if it is within one cell size, else infinity
+  double distance_within(const Eigen::Vector3d& p) const {
+    double bd = INFINITY;
+    for_cells(p, 1, [&](int i) { bd = std::min(bd, (pts_[i] - p).squaredNorm()); });
+    return std::sqrt(bd) * inv_ <= 1.0 ? std::sqrt(bd) : INFINITY;
   }
   // index of the nearest stored point (-1 if empty)
   int nearest(const Eigen::Vector3d& p) const {

@@ -11,15 +11,15 @@
 namespace varsph::geometry::detail {
 namespace {
 
-// Kept fixed points plus darts at radius r; returns the indices of the kept candidates.
-std::vector<int> throw_darts(const std::vector<Eigen::Vector3d>& kept_fixed,
-                             const WeightedPoints& cand, const std::vector<int>& order, double r) {
+// Darts at radius r; candidate i is blocked by the kept fixed points when fixed_distance[i] < r.
+// Returns the indices of the kept candidates.
+std::vector<int> throw_darts(const std::vector<double>& fixed_distance, const WeightedPoints& cand,
+                             const std::vector<int>& order, double r) {
   PointGrid grid(r);
-  grid.reserve(kept_fixed.size() + cand.size() / 8);
-  for (const auto& p : kept_fixed) grid.insert(p);
+  grid.reserve(cand.size() / 8);
   std::vector<int> kept;
   for (int i : order) {
-    if (grid.any_within(cand.x[i], r)) continue;
+    if (fixed_distance[i] < r || grid.any_within(cand.x[i], r)) continue;
     grid.insert(cand.x[i]);
     kept.push_back(i);
   }
@@ -57,13 +57,24 @@ Layer select_samples(const WeightedPoints& fixed, const WeightedPoints& cand,
     }
     const double total = std::accumulate(cand.w.begin(), cand.w.end(), 0.0);
     const long target = std::lround(total / std::pow(dx, manifold_dim));
+    // distance of every candidate to the nearest kept fixed point (capped at 2 dx, the largest r)
+    std::vector<double> fixed_distance(cand.size(), INFINITY);
+    {
+      PointGrid fixed_grid(2.0 * dx);
+      fixed_grid.reserve(out.x.size());
+      for (const auto& p : out.x) fixed_grid.insert(p);
+      for (std::size_t i = 0; i < cand.size(); ++i) fixed_distance[i] = fixed_grid.distance_within(cand.x[i]);
+    }
     double lo = 0.7 * dx, hi = 2.0 * dx;
-    std::vector<int> best = throw_darts(out.x, cand, order, lo);
+    std::vector<int> best = throw_darts(fixed_distance, cand, order, lo);
     if (static_cast<long>(best.size()) > target) {
       long best_err = static_cast<long>(best.size()) - target;
-      for (int it = 0; it < 24 && best_err != 0; ++it) {
+      // bisection until the count is within 0.5 % (or 1) of the target, or r is pinned down to
+      // 0.002 dx (the count is not monotonic in r at that scale)
+      const long tolerance = std::max(1L, target / 200);
+      for (int it = 0; it < 20 && std::labs(best_err) > tolerance && hi - lo > 2e-3 * dx; ++it) {
         const double mid = 0.5 * (lo + hi);
-        std::vector<int> k = throw_darts(out.x, cand, order, mid);
+        std::vector<int> k = throw_darts(fixed_distance, cand, order, mid);
         const long err = static_cast<long>(k.size()) - target;
         if (std::labs(err) < std::labs(best_err) || (std::labs(err) == std::labs(best_err) && err > 0)) {
           best_err = err;

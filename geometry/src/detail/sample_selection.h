@@ -24,7 +24,7 @@ struct Layer {
 //    weight becomes a parcel);
 // 2. candidates are thinned by dart throwing (in the given order or a fixed pseudo-random order):
 //    a candidate is kept if no kept point lies closer than r; r in [0.7 dx, 2 dx] is bisected so
-//    that the number kept is round(sum of candidate weights / dx^manifold_dim);
+//    that the number kept is round(sum of candidate weights / dx^manifold_dim) within 0.5 % or 1;
 // 3. every candidate and parcel gives its weight (and weighted normal) to the nearest kept point.
 Layer select_samples(const WeightedPoints& fixed, const WeightedPoints& candidates,
                      const WeightedPoints& parcels, double dx, int manifold_dim,
