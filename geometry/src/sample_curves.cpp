@@ -96,7 +96,6 @@ void sample_curves(const std::vector<Polyline2>& lines, double dx, int layers, i
         const int sgi = (first + c) % ns;
         len += slen[sgi];
         if (sn[sgi].dot(sn[first % ns]) < 1.0 - 1e-10) straight = false;
-        if (!straight) {}
       }
       if (!straight)
         for (int c = 0; c < count; ++c) curved_segs.push_back({li, (first + c) % ns});
@@ -126,9 +125,7 @@ void sample_curves(const std::vector<Polyline2>& lines, double dx, int layers, i
           if (!closed && vi == 0) { n = sn[0]; w = 0.5 * step; }
           else {
             n = vnormal(vi);
-            const int prev_piece_seg = (vi - 1 + ns) % ns;
-            (void)prev_piece_seg;
-            w = 0.5 * step;  // the other half is added by the previous piece's last interval below
+            w = 0.5 * step;  // the other half comes from the previous piece (pending_half)
           }
         } else if (j == m) {
           n = sn[(nv - 2)];

@@ -81,7 +81,9 @@ TEST(Curves2D, OpenTankLayersOutside) {
   for (int i = 0; i < b.positions.rows(); ++i) {
     const Eigen::Vector2d p = b.positions.row(i);
     EXPECT_NEAR(polyline_distance(p, P, false), b.layer[i] * dx, 0.01 * dx);
-    if (b.layer[i] > 0) EXPECT_TRUE(p.x() < 0 || p.x() > 0.58 || p.y() < 0) << p.transpose();  // in the wall
+    if (b.layer[i] > 0) {
+      EXPECT_TRUE(p.x() < 0 || p.x() > 0.58 || p.y() < 0) << p.transpose();  // in the wall
+    }
   }
   EXPECT_GE(vt::min_pair_distance(b.positions, dx), 0.5 * dx);
   EXPECT_EQ(b.enclosed_measure, 0.0);
