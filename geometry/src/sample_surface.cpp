@@ -304,6 +304,7 @@ void sample_surface(const TriangleMesh& mesh, double dx, int layers, int side, E
         for (int vtx : {e.a, e.b}) {
           const Vector3d n0 = vn[vtx];
           if (n0.squaredNorm() == 0) continue;
+          // solid angle of the spherical triangle (Van Oosterom & Strackee 1983)
           const double omega = 2.0 * std::atan2(std::abs(n0.dot(n1.cross(n2))), 1.0 + n0.dot(n1) + n1.dot(n2) + n2.dot(n0));
           if (omega <= 1e-9) continue;
           const double span = std::max({std::acos(std::clamp(n0.dot(n1), -1.0, 1.0)), theta,
