@@ -27,6 +27,7 @@ using Eigen::Vector3d;
 constexpr int kSub = 6;                 // sub-points per cell side for clipped cell areas
 constexpr double kRegionMinCells = 16;  // planar regions smaller than this many dx^2 are "curved"
 constexpr double kCandidatesPerDx = 4;  // candidate spacing dx/4 on curved parts, arcs and fans
+constexpr double kMaxStretch = 0.1;     // a region lattice's spacing may differ from dx by 10 %
 
 int find(std::vector<int>& p, int i) {
   while (p[i] != i) i = p[i] = p[p[i]];
@@ -46,10 +47,15 @@ bool region_lattice(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const st
       umin = std::min(umin, p.dot(u)); umax = std::max(umax, p.dot(u));
       vmin = std::min(vmin, p.dot(v)); vmax = std::max(vmax, p.dot(v));
     }
-  const int nu = static_cast<int>(std::floor((umax - umin) / dx + 1e-9));
-  const int nv = static_cast<int>(std::floor((vmax - vmin) / dx + 1e-9));
-  const double ou = umin + 0.5 * ((umax - umin) - nu * dx), ov = vmin + 0.5 * ((vmax - vmin) - nv * dx);
-  const int cu = nu + 2, cv = nv + 2;  // cells -1 .. n (the partial strips at both ends)
+  // round(extent / dx) cells per axis exactly tile the bounding box: the spacing is dx when the
+  // extent is a multiple of dx, else stretched by at most dx / (2 n) (particles then sit half a
+  // cell from the bounding-box edges, which keeps neighbouring regions at >= 0.7 spacing)
+  const int nu = std::max(1, static_cast<int>(std::lround((umax - umin) / dx)));
+  const int nv = std::max(1, static_cast<int>(std::lround((vmax - vmin) / dx)));
+  const double hu = (umax - umin) / nu, hv = (vmax - vmin) / nv;
+  if (std::abs(hu / dx - 1.0) > kMaxStretch || std::abs(hv / dx - 1.0) > kMaxStretch) return false;
+  const double ou = umin, ov = vmin;
+  const int cu = nu + 2, cv = nv + 2;  // cells -1 .. n (guards for round-off at the ends)
   if (static_cast<double>(cu) * cv > 4e8) return false;
   struct Cell { int count = 0; bool centre_in = false; double best_d = INFINITY; Vector2d best{0, 0}; };
   std::vector<Cell> cells(static_cast<std::size_t>(cu) * cv);
@@ -72,20 +78,20 @@ bool region_lattice(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const st
     };
     const double lo_u = std::min({t[0].x(), t[1].x(), t[2].x()}), hi_u = std::max({t[0].x(), t[1].x(), t[2].x()});
     const double lo_v = std::min({t[0].y(), t[1].y(), t[2].y()}), hi_v = std::max({t[0].y(), t[1].y(), t[2].y()});
-    const int i0 = std::max(-1, static_cast<int>(std::floor(lo_u / dx))), i1 = std::min(nu, static_cast<int>(std::floor(hi_u / dx)));
-    const int j0 = std::max(-1, static_cast<int>(std::floor(lo_v / dx))), j1 = std::min(nv, static_cast<int>(std::floor(hi_v / dx)));
+    const int i0 = std::max(-1, static_cast<int>(std::floor(lo_u / hu))), i1 = std::min(nu, static_cast<int>(std::floor(hi_u / hu)));
+    const int j0 = std::max(-1, static_cast<int>(std::floor(lo_v / hv))), j1 = std::min(nv, static_cast<int>(std::floor(hi_v / hv)));
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) {
         Cell& cell = cells[static_cast<std::size_t>(j + 1) * cu + (i + 1)];
-        const Vector2d c0(i * dx, j * dx), centre = c0 + Vector2d(0.5 * dx, 0.5 * dx);
+        const Vector2d c0(i * hu, j * hv), centre = c0 + Vector2d(0.5 * hu, 0.5 * hv);
         if (inside(centre)) { cell.centre_in = true; cell.best_d = 0; cell.best = centre; }
-        if (inside(c0) && inside(c0 + Vector2d(dx, 0)) && inside(c0 + Vector2d(0, dx)) && inside(c0 + Vector2d(dx, dx))) {
+        if (inside(c0) && inside(c0 + Vector2d(hu, 0)) && inside(c0 + Vector2d(0, hv)) && inside(c0 + Vector2d(hu, hv))) {
           cell.count += kSub * kSub;
           continue;
         }
         for (int b = 0; b < kSub; ++b)
           for (int a = 0; a < kSub; ++a) {
-            const Vector2d p = c0 + dx * Vector2d(su[a], sv[b]);
+            const Vector2d p = c0 + Vector2d(hu * su[a], hv * sv[b]);
             if (!inside(p)) continue;
             ++cell.count;
             const double d = (p - centre).squaredNorm();

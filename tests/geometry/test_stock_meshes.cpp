@@ -43,3 +43,28 @@ TEST(StockMeshes, Tank2D) {
   EXPECT_NEAR(t.surface_measure, 0.6 + 0.58 + 0.6, 1e-12);
   EXPECT_EQ(t.positions.rows(), 179);
 }
+
+TEST(StockMeshes, SpacingThatDoesNotDivideTheSides) {
+  // 0.6 x 0.3 x 0.4 m with dx = 0.035: no side is a multiple of dx
+  for (const std::string side : {"outside", "inside"}) {
+    BodyRequest r;
+    r.mesh = kMeshes / "sloshing_tank.off";
+    r.spacing = 0.035;
+    r.layers = 3;
+    r.layer_side = side;
+    const SampledBody b = sample_body(r);
+    const double expected = b.surface_measure / (r.spacing * r.spacing);
+    const long n0 = (b.layer.array() == 0).count();
+    EXPECT_NEAR(n0, expected, 0.03 * expected) << side;
+    double share0 = 0;
+    for (int i = 0; i < b.positions.rows(); ++i)
+      if (b.layer[i] == 0) share0 += b.measure[i];
+    EXPECT_NEAR(share0, b.surface_measure, 1e-9) << side;
+    EXPECT_GE(vt::min_pair_distance(b.positions, r.spacing), 0.5 * r.spacing) << side;
+    vt::MatrixXd V(8, 3); vt::MatrixXi F;
+    vt::cube(1.0, V, F);
+    V.col(0) *= 0.6; V.col(1) *= 0.3; V.col(2) *= 0.4;
+    for (int i = 0; i < b.positions.rows(); ++i)
+      EXPECT_NEAR(vt::mesh_distance(b.positions.row(i), V, F), b.layer[i] * r.spacing, 0.01 * r.spacing);
+  }
+}

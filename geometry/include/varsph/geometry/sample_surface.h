@@ -6,8 +6,8 @@ namespace varsph::geometry {
 
 // Boundary particles on a triangle mesh and on its offset surfaces (3D).
 // Method (docs/geometry.md): planar regions (edge-connected coplanar faces) of at least 16 dx^2 get
-// a square lattice in their plane, cell-centred from the region's bounding box, axes along the
-// region's longest boundary edge; the rest of the surface (curved parts) is covered by dense
+// a square lattice in their plane, round(extent/dx) cells per axis tiling the region's bounding box
+// (spacing dx, stretched by at most 10 %), axes along the region's longest boundary edge; the rest of the surface (curved parts) is covered by dense
 // candidates and thinned by deterministic dart throwing whose radius is chosen so that the count
 // matches area/dx^2. Layer k is the offset surface at distance k dx (faces pushed along their
 // normal, edges and convex vertices swept to cylinders and spheres), sampled the same way.
