@@ -2,6 +2,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
@@ -149,10 +150,34 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
   for (auto h : mesh.halfedges())
     if (mesh.is_border(h)) ++out.border_edges;
   if (out.border_edges == 0) {
-    if (!PMP::is_outward_oriented(mesh)) {
-      PMP::reverse_face_orientations(mesh);
-      flipped = mesh.number_of_faces() - flipped;
+    auto cc = mesh.add_property_map<Mesh::Face_index, std::size_t>("f:varsph_cc", 0).first;
+    const std::size_t ncc = PMP::connected_components(mesh, cc);
+    if (ncc <= 1) {
+      if (!PMP::is_outward_oriented(mesh)) {
+        PMP::reverse_face_orientations(mesh);
+        flipped = mesh.number_of_faces() - flipped;
+      }
+    } else {
+      // several closed components (e.g. a tank and an obstacle in one file): each one is turned to
+      // enclose a positive volume (nested shells are therefore not treated as a hollow solid)
+      std::vector<double> vol(ncc, 0.0);
+      for (auto f : mesh.faces()) {
+        auto h = mesh.halfedge(f);
+        const auto& p = mesh.point(mesh.source(h));
+        const auto& q = mesh.point(mesh.target(h));
+        const auto& r = mesh.point(mesh.target(mesh.next(h)));
+        vol[cc[f]] += CGAL::scalar_product(p - CGAL::ORIGIN, CGAL::cross_product(q - CGAL::ORIGIN, r - CGAL::ORIGIN)) / 6.0;
+      }
+      std::vector<Mesh::Face_index> rev;
+      for (auto f : mesh.faces())
+        if (vol[cc[f]] < 0) rev.push_back(f);
+      if (!rev.empty()) {
+        PMP::reverse_face_orientations(rev, mesh);
+        notes.push_back(path.string() + ": reversed the orientation of " + std::to_string(rev.size()) +
+                        " faces so that each of the " + std::to_string(ncc) + " closed components faces outward");
+      }
     }
+    mesh.remove_property_map(cc);
     out.volume = PMP::volume(mesh);
   }
   if (flipped > 0)

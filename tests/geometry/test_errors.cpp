@@ -183,3 +183,29 @@ TEST(BadInput, MalformedPolylineFile) {
   r.dimension = 3;
   EXPECT_NE(error_of(r).find("describes a 2D body"), std::string::npos);
 }
+
+TEST(BadInput, TwoComponentsAreEachOrientedOutward) {
+  const auto dir = vt::temp_dir();
+  vt::MatrixXd V; vt::MatrixXi F;
+  vt::cube(1.0, V, F);
+  // a tank-like box and a separate small box, the second one written inside out
+  vt::MatrixXd V2(16, 3); vt::MatrixXi F2(24, 3);
+  V2.topRows(8) = V;
+  V2.bottomRows(8) = (V.array() * 0.2 + 2.0).matrix();
+  F2.topRows(12) = F;
+  vt::MatrixXi Fin = F.array() + 8;
+  Fin.col(1).swap(Fin.col(2));
+  F2.bottomRows(12) = Fin;
+  vt::write_off(dir / "two.off", V2, F2);
+  BodyRequest r = req(dir / "two.off", "volume");
+  const SampledBody b = sample_body(r);
+  EXPECT_NEAR(b.enclosed_measure, 1.0 + 0.008, 1e-12);
+  EXPECT_TRUE(vt::has_note(b.notes, "reversed the orientation of 12 faces so that each of the 2 closed components faces outward"));
+  r.fill = "surface";
+  r.spacing = 0.05;
+  const SampledBody s = sample_body(r);
+  for (int i = 0; i < s.positions.rows(); ++i) {
+    const Eigen::RowVector3d c = s.positions(i, 0) > 1.5 ? Eigen::RowVector3d(2.1, 2.1, 2.1) : Eigen::RowVector3d(0.5, 0.5, 0.5);
+    EXPECT_GT(s.normals.row(i).dot(s.positions.row(i) - c), 0);
+  }
+}
