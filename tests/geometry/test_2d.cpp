@@ -132,3 +132,24 @@ TEST(Curves2D, SectionOfA3DMesh) {
   r.section_point = Eigen::Vector3d(0, 5, 0);
   EXPECT_THROW(sample_body(r), GeometryError);
 }
+
+TEST(Curves2D, SectionOfASphereIsACircle) {
+  const auto dir = vt::temp_dir();
+  vt::MatrixXd V; vt::MatrixXi F;
+  vt::icosphere(0.5, 4, V, F);
+  vt::write_off(dir / "sphere.off", V, F);
+  BodyRequest r = req2(dir / "sphere.off", 0.02, 2, "inside");
+  r.section_point = Eigen::Vector3d(0, 0, 0.1);
+  r.section_normal = Eigen::Vector3d(0, 0, 2.0);  // (x, y) plane at z = 0.1
+  const SampledBody b = sample_body(r);
+  const double R = std::sqrt(0.25 - 0.01);
+  EXPECT_NEAR(b.surface_measure, 2 * M_PI * R, 0.01 * 2 * M_PI * R);
+  const long n0 = (b.layer.array() == 0).count();
+  EXPECT_NEAR(n0, b.surface_measure / 0.02, 0.03 * b.surface_measure / 0.02);
+  for (int i = 0; i < b.positions.rows(); ++i) {
+    const Eigen::Vector2d p = b.positions.row(i);
+    EXPECT_NEAR(p.norm(), R - b.layer[i] * 0.02, 0.01);  // faceted sphere: within 1 cm
+    EXPECT_GT(b.normals.row(i).dot(p.normalized()), 0.99);
+  }
+  EXPECT_GE(vt::min_pair_distance(b.positions, 0.02), 0.5 * 0.02);
+}
