@@ -33,6 +33,18 @@ void sample_curves(const std::vector<Polyline2>& lines, double dx, int layers, i
                    Eigen::MatrixXd& X, Eigen::MatrixXd& N, Eigen::VectorXd& A, Eigen::VectorXi& L) {
   const double s = side >= 0 ? 1.0 : -1.0;
   const double h = dx / kCandidatesPerDx;
+  // repeated consecutive points (zero-length segments) removed
+  std::vector<Polyline2> clean = lines;
+  for (auto& l : clean) {
+    std::vector<Vector2d> q;
+    for (Eigen::Index i = 0; i < l.P.rows(); ++i) {
+      const Vector2d p = l.P.row(i).transpose();
+      if (q.empty() || (p - q.back()).norm() > 1e-12 * dx) q.push_back(p);
+    }
+    if (l.closed && q.size() > 1 && (q.front() - q.back()).norm() <= 1e-12 * dx) q.pop_back();
+    l.P.resize(static_cast<Eigen::Index>(q.size()), 2);
+    for (std::size_t i = 0; i < q.size(); ++i) l.P.row(static_cast<Eigen::Index>(i)) = q[i].transpose();
+  }
   std::vector<Seg> segs;  // all segments, for distances
   // layer 0 points (fixed) with a flag "on a straight piece" (pushed as fixed points in layers > 0)
   WeightedPoints base;
@@ -40,7 +52,7 @@ void sample_curves(const std::vector<Polyline2>& lines, double dx, int layers, i
   // curved pieces, candidates for offset layers: (polyline, segment) pairs
   std::vector<std::pair<int, int>> curved_segs;
   for (int li = 0; li < static_cast<int>(lines.size()); ++li) {
-    const auto& line = lines[li];
+    const auto& line = clean[li];
     const int nv = static_cast<int>(line.P.rows());
     if (nv < 2) continue;
     const bool closed = line.closed && nv >= 3;
@@ -168,8 +180,8 @@ void sample_curves(const std::vector<Polyline2>& lines, double dx, int layers, i
         if (keep(p)) fixed.add(lift(p), base.n[i], base.w[i]);
       }
       // candidates in walking order: curved segments pushed along their normal, arcs at vertices
-      for (int li = 0; li < static_cast<int>(lines.size()); ++li) {
-        const auto& line = lines[li];
+      for (int li = 0; li < static_cast<int>(clean.size()); ++li) {
+        const auto& line = clean[li];
         const int nv = static_cast<int>(line.P.rows());
         if (nv < 2) continue;
         const bool closed = line.closed && nv >= 3;

@@ -153,3 +153,11 @@ TEST(Curves2D, SectionOfASphereIsACircle) {
   }
   EXPECT_GE(vt::min_pair_distance(b.positions, 0.02), 0.5 * 0.02);
 }
+
+TEST(Curves2D, RepeatedPointsAreIgnored) {
+  const auto dir = vt::temp_dir();
+  std::ofstream(dir / "sq.poly2d") << "0 0\n1 0\n1 0\n1 1\n0 1\n0 0\n";
+  const SampledBody b = sample_body(req2(dir / "sq.poly2d", 0.1, 2));
+  EXPECT_EQ((b.layer.array() == 0).count(), 40);
+  EXPECT_GE(vt::min_pair_distance(b.positions, 0.1), 0.05);
+}
