@@ -18,7 +18,7 @@ Eigen::VectorXi points_far_from(const Eigen::MatrixXd& fluid, const Eigen::Matri
     for (Eigen::Index c = 0; c < M.cols() && c < 3; ++c) p[c] = M(i, c);
     return p;
   };
-  detail::PointGrid grid(min_distance);
+  detail::PointGrid grid(2.0 * min_distance);
   grid.reserve(static_cast<std::size_t>(boundary.rows()));
   for (Eigen::Index i = 0; i < boundary.rows(); ++i) grid.insert(row3(boundary, i));
   std::vector<int> keep;

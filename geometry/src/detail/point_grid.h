@@ -23,9 +23,25 @@ class PointGrid {
   }
   const Eigen::Vector3d& point(int i) const { return pts_[i]; }
   std::size_t size() const { return pts_.size(); }
-  // true if a stored point lies strictly closer than r (r <= cell size) to p
+  // true if a stored point lies strictly closer than r (r <= cell size) to p. With r <= cell/2 only
+  // the 2x2x2 block of cells on p's side of its cell can hold such a point.
   bool any_within(const Eigen::Vector3d& p, double r) const {
     const double r2 = r * r;
+    if (r * inv_ <= 0.5) {
+      const Eigen::Vector3d f = p * inv_;
+      const Eigen::Vector3i c = cell_of(p);
+      Eigen::Vector3i lo;
+      for (int a = 0; a < 3; ++a) lo[a] = (f[a] - c[a] < 0.5) ? c[a] - 1 : c[a];
+      for (int dx = 0; dx < 2; ++dx)
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dz = 0; dz < 2; ++dz) {
+            auto it = head_.find(key(lo + Eigen::Vector3i(dx, dy, dz)));
+            if (it == head_.end()) continue;
+            for (int i = it->second; i >= 0; i = next_[i])
+              if ((pts_[i] - p).squaredNorm() < r2) return true;
+          }
+      return false;
+    }
     bool found = false;
     for_cells(p, 1, [&](int i) {
       if (!found && (pts_[i] - p).squaredNorm() < r2) found = true;

@@ -15,7 +15,7 @@ namespace {
 // Returns the indices of the kept candidates.
 std::vector<int> throw_darts(const std::vector<double>& fixed_distance, const WeightedPoints& cand,
                              const std::vector<int>& order, double r) {
-  PointGrid grid(r);
+  PointGrid grid(2.0 * r);
   grid.reserve(cand.size() / 8);
   std::vector<int> kept;
   for (int i : order) {
@@ -34,7 +34,7 @@ Layer select_samples(const WeightedPoints& fixed, const WeightedPoints& cand,
   Layer out;
   WeightedPoints extra = parcels;  // parcels plus dropped fixed points
   {
-    PointGrid grid(std::max(fixed_min_distance, 1e-12));
+    PointGrid grid(2.0 * std::max(fixed_min_distance, 1e-12));
     grid.reserve(fixed.size());
     for (std::size_t i = 0; i < fixed.size(); ++i) {
       if (fixed_min_distance > 0 && grid.any_within(fixed.x[i], fixed_min_distance)) {
