@@ -62,3 +62,36 @@ TEST(VolumeFill, ClipBoxAndExclusion) {
   EXPECT_EQ(b.positions.rows(), 500 - 7);
   EXPECT_TRUE(vt::has_note(b.notes, "removed 7 fluid points"));
 }
+
+TEST(VolumeFill, RotatedCubeMatchesAnalyticInsideTest) {
+  const auto dir = vt::temp_dir();
+  vt::MatrixXd V; vt::MatrixXi F;
+  vt::cube(1.0, V, F);
+  vt::write_off(dir / "cube.off", V, F);
+  BodyRequest r;
+  r.mesh = dir / "cube.off";
+  r.fill = "volume";
+  r.spacing = 0.05;
+  Eigen::Affine3d T = Eigen::Translation3d(0.3, -0.2, 0.1) * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()) *
+                      Eigen::AngleAxisd(0.35, Eigen::Vector3d::UnitX());
+  r.transform = T.matrix();
+  r.clip_min = Eigen::Vector3d(-2, -2, -2);
+  r.clip_max = Eigen::Vector3d(2, 2, 2);
+  const SampledBody b = sample_body(r);
+  // the same lattice, classified analytically
+  long expected = 0;
+  const Eigen::Affine3d Ti = T.inverse();
+  for (int k = 0; k < 80; ++k)
+    for (int j = 0; j < 80; ++j)
+      for (int i = 0; i < 80; ++i) {
+        const Eigen::Vector3d p = Eigen::Vector3d(-2, -2, -2) + 0.05 * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
+        const Eigen::Vector3d q = Ti * p;
+        if ((q.array() > 1e-12).all() && (q.array() < 1 - 1e-12).all()) ++expected;
+      }
+  EXPECT_EQ(b.positions.rows(), expected);
+  EXPECT_NEAR(b.positions.rows(), 8000, 0.02 * 8000);
+  for (int i = 0; i < b.positions.rows(); ++i) {
+    const Eigen::Vector3d q = Ti * Eigen::Vector3d(b.positions.row(i).transpose());
+    EXPECT_TRUE((q.array() > 0).all() && (q.array() < 1).all()) << q.transpose();
+  }
+}
