@@ -57,7 +57,7 @@ BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
     // mesh bodies: keys validated by the geometry module (docs/geometry.md)
     b.mesh = json::object();
     for (const char* key : {"mesh", "transform", "fill", "layer_side", "section", "clip_min", "clip_max",
-                            "min_distance", "allow_open"}) {
+                            "allow_self_intersections"}) {
       if (const json* v = r.raw(at(base, key))) b.mesh[key] = *v;
       if (r.raw(at(base, key))) r.subtree(at(base, key), *r.raw(at(base, key)));
     }
@@ -102,6 +102,8 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.neighbor_search = r.choice("domain.neighbor_search", "cell", {"cell", "hash"});
 
   s.spacing = r.positive("particles.spacing", std::nullopt, "particle spacing dx [m]");
+  s.min_boundary_distance =
+      s.spacing * r.number("particles.min_boundary_distance", 0.5, 0, 10, "fluid-boundary clearance in units of dx");
 
   const std::string ktype =
       r.choice("kernel.type", "gaussian", {"gaussian", "cubic_spline", "wendland_c2", "paper_literal"});

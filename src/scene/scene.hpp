@@ -39,6 +39,7 @@ struct Scene {
   std::string neighbor_search = "cell";  // "cell" (bounded grid) | "hash" (unbounded)
 
   double spacing = 0;  // particles.spacing dx [m]
+  double min_boundary_distance = 0;  // fluid particles closer than this to a boundary particle are removed [m]
 
   kernels::KernelType kernel = kernels::KernelType::Gaussian;
   double h = 0;         // smoothing length [m]

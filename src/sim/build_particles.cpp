@@ -1,9 +1,11 @@
 #include "sim/build_particles.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "core/errors.hpp"
+#include "neighbors/neighbor_grid.hpp"
 #include "sim/mesh_bodies.hpp"
 
 namespace varsph {
@@ -31,6 +33,45 @@ void for_each_lattice_point(const std::array<long, D>& first, const std::array<l
     }
     if (a == D) break;
   }
+}
+
+// Removes fluid particles closer than `dist` to any boundary particle (overlapping bodies); returns
+// how many were removed.
+template <int D>
+std::size_t remove_fluid_near_walls(InitialParticles<D>& p, double dist) {
+  if (!(dist > 0) || p.x.empty()) return 0;
+  NeighborGrid<D> grid;
+  typename NeighborGrid<D>::Options o;
+  o.hashed = true;
+  o.cell_size = Real(dist);
+  grid.configure(o);
+  std::vector<std::uint32_t> perm;
+  grid.build(p.x, perm);
+  std::vector<char> drop(p.x.size(), 0);
+  const Real d2 = Real(dist * dist);
+  for (const auto& b : grid.blocks())
+    for (std::uint32_t i = b.begin; i < b.end; ++i) {
+      const std::uint32_t pi = perm[i];
+      if (p.kind[pi] != 0) continue;
+      for (std::uint32_t r = b.nbr_begin; r < b.nbr_end && !drop[pi]; ++r)
+        for (std::uint32_t j = grid.ranges()[r].begin; j < grid.ranges()[r].end; ++j) {
+          const std::uint32_t pj = perm[j];
+          if (p.kind[pj] == 1 && (p.x[pi] - p.x[pj]).squaredNorm() < d2) {
+            drop[pi] = 1;
+            break;
+          }
+        }
+    }
+  std::size_t kept = 0, removed = 0;
+  for (std::size_t i = 0; i < p.x.size(); ++i) {
+    if (drop[i]) { ++removed; continue; }
+    p.x[kept] = p.x[i]; p.v[kept] = p.v[i]; p.normal[kept] = p.normal[i]; p.rho[kept] = p.rho[i];
+    p.mass[kept] = p.mass[i]; p.kind[kept] = p.kind[i]; p.body[kept] = p.body[i];
+    ++kept;
+  }
+  p.x.resize(kept); p.v.resize(kept); p.normal.resize(kept); p.rho.resize(kept);
+  p.mass.resize(kept); p.kind.resize(kept); p.body.resize(kept);
+  return removed;
 }
 
 template <int D>
@@ -156,6 +197,14 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
       out.body.push_back(int(bi));
     }
     (void)first;
+  }
+  if (const std::size_t removed = remove_fluid_near_walls<D>(out, s.min_boundary_distance)) {
+    std::fprintf(stderr, "varsph: note: %s: removed %zu fluid particles closer than %g m to boundary particles "
+                 "(overlapping bodies; particles.min_boundary_distance)\n", s.file.string().c_str(), removed,
+                 s.min_boundary_distance);
+    if (out.count(0) == 0)
+      throw InputError(s.file.string() + ": every fluid particle overlaps a boundary body (check the bodies' "
+                                         "positions and units)");
   }
   return out;
 }

@@ -1,14 +1,143 @@
+// The seam between scenes and the CGAL geometry module (its own target; no CGAL header here).
+// Mesh body keys (docs/geometry.md): mesh (path relative to the scene file), fill ("surface" |
+// "volume"), layers, layer_side ("outside": a tank, layers grow into the wall; "inside": an obstacle),
+// transform ({"scale", "rotate_deg", "translate"} or {"matrix": 16 numbers, row-major}), section
+// ({"point", "normal"}: 2D cut of a 3D mesh), clip_min/clip_max (volume fill), allow_self_intersections.
 #include "sim/mesh_bodies.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include <Eigen/Geometry>
 
 #include "core/errors.hpp"
 
+#ifdef VARSPH_HAVE_GEOMETRY
+#include "varsph/geometry/geometry_error.h"
+#include "varsph/geometry/sample_body.h"
+#endif
+
 namespace varsph {
+
+#ifdef VARSPH_HAVE_GEOMETRY
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void bad(const std::string& where, const std::string& key, const std::string& expected, const json& got) {
+  throw InputError(where + "." + key + ": expected " + expected + ", got " + got.dump());
+}
+
+Eigen::Vector3d vec3(const json& j, const std::string& where, const std::string& key, int dim) {
+  if (!j.is_array() || (j.size() != 3 && j.size() != std::size_t(dim))) bad(where, key, "an array of 2 or 3 numbers", j);
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < j.size(); ++k) {
+    if (!j[k].is_number()) bad(where, key, "numbers", j);
+    v[Eigen::Index(k)] = j[k].get<double>();
+  }
+  return v;
+}
+
+Eigen::Matrix4d transform_of(const json& t, const std::string& where, int dim) {
+  Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
+  if (t.is_null()) return M;
+  if (!t.is_object()) bad(where, "transform", "an object {scale, rotate_deg, translate} or {matrix}", t);
+  for (auto it = t.begin(); it != t.end(); ++it)
+    if (it.key() != "scale" && it.key() != "rotate_deg" && it.key() != "translate" && it.key() != "matrix")
+      throw InputError(where + ".transform: unknown key '" + it.key() + "' (scale, rotate_deg, translate, matrix)");
+  if (t.contains("matrix")) {
+    const json& m = t["matrix"];
+    if (!m.is_array() || m.size() != 16) bad(where, "transform.matrix", "16 numbers (row-major 4 x 4)", m);
+    for (int k = 0; k < 16; ++k) M(k / 4, k % 4) = m[std::size_t(k)].get<double>();
+    return M;
+  }
+  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
+  if (t.contains("scale")) {
+    if (t["scale"].is_number()) S *= t["scale"].get<double>();
+    else S = vec3(t["scale"], where, "transform.scale", dim).asDiagonal();
+    if (!(S.diagonal().array() > 0).all()) bad(where, "transform.scale", "positive factors", t["scale"]);
+  }
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  if (t.contains("rotate_deg")) {  // about x, then y, then z (degrees)
+    const Eigen::Vector3d a = vec3(t["rotate_deg"], where, "transform.rotate_deg", 3) * std::numbers::pi / 180.0;
+    R = (Eigen::AngleAxisd(a.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(a.y(), Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(a.x(), Eigen::Vector3d::UnitX()))
+            .toRotationMatrix();
+  }
+  M.topLeftCorner<3, 3>() = R * S;
+  if (t.contains("translate")) M.topRightCorner<3, 1>() = vec3(t["translate"], where, "transform.translate", dim);
+  return M;
+}
+
+}  // namespace
+
+template <int D>
+void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>& positions,
+                      std::vector<Vec<D>>& normals) {
+  const scene::BodySpec& b = s.bodies[index];
+  const std::string where = s.file.string() + ": bodies." + std::to_string(index);
+  const json& m = b.mesh;
+  geometry::BodyRequest req;
+  if (!m["mesh"].is_string()) bad(where, "mesh", "a file path", m["mesh"]);
+  req.mesh = s.file.parent_path() / m["mesh"].get<std::string>();
+  req.dimension = D;
+  req.spacing = s.spacing;
+  req.fill = m.value("fill", b.kind == "fluid" ? std::string("volume") : std::string("surface"));
+  if (req.fill != "surface" && req.fill != "volume") bad(where, "fill", "\"surface\" or \"volume\"", m["fill"]);
+  req.layers = b.kind == "boundary" ? b.layers : 1;
+  req.layer_side = m.value("layer_side", std::string("outside"));
+  if (req.layer_side != "outside" && req.layer_side != "inside")
+    bad(where, "layer_side", "\"outside\" (a tank) or \"inside\" (an obstacle)", m["layer_side"]);
+  req.transform = transform_of(m.contains("transform") ? m["transform"] : json(), where, D);
+  if (m.contains("section")) {
+    const json& sec = m["section"];
+    if (!sec.is_object() || !sec.contains("point") || !sec.contains("normal"))
+      bad(where, "section", "an object {point, normal}", sec);
+    req.section_point = vec3(sec["point"], where, "section.point", 3);
+    req.section_normal = vec3(sec["normal"], where, "section.normal", 3);
+  }
+  if (m.contains("clip_min") || m.contains("clip_max")) {
+    const Eigen::Vector3d lo = vec3(m.value("clip_min", json::array()), where, "clip_min", D);
+    const Eigen::Vector3d hi = vec3(m.value("clip_max", json::array()), where, "clip_max", D);
+    req.clip_min = lo.head(D);
+    req.clip_max = hi.head(D);
+  }
+  req.domain_min = Eigen::Map<const Eigen::VectorXd>(s.domain_min.data(), D);
+  req.domain_max = Eigen::Map<const Eigen::VectorXd>(s.domain_max.data(), D);
+  req.allow_self_intersections = m.value("allow_self_intersections", false);
+
+  geometry::SampledBody out;
+  try {
+    out = geometry::sample_body(req);
+  } catch (const geometry::GeometryError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+  for (const auto& note : out.notes) std::fprintf(stderr, "varsph: note: %s: %s\n", where.c_str(), note.c_str());
+  // our boundary normal points from the wall into the fluid: against the mesh's outward normal for a
+  // tank (fluid inside), along it for an obstacle (fluid outside)
+  const double sign = req.layer_side == "outside" ? -1.0 : 1.0;
+  for (Eigen::Index k = 0; k < out.positions.rows(); ++k) {
+    Vec<D> p, n = Vec<D>::Zero();
+    for (int a = 0; a < D; ++a) p[a] = Real(out.positions(k, a));
+    positions.push_back(p);
+    if (out.normals.rows() == out.positions.rows()) {
+      for (int a = 0; a < D; ++a) n[a] = Real(sign * out.normals(k, a));
+      normals.push_back(n);
+    }
+  }
+}
+
+#else
 
 template <int D>
 void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>&, std::vector<Vec<D>>&) {
   throw InputError(s.file.string() + ": bodies." + std::to_string(index) +
-                   ": mesh bodies need the geometry module, which this build does not include");
+                   ": mesh bodies need the geometry module, which this build does not include "
+                   "(configure with -DVARSPH_BUILD_GEOMETRY=ON)");
 }
+
+#endif
 
 template void sample_mesh_body<2>(const scene::Scene&, std::size_t, std::vector<Vec<2>>&, std::vector<Vec<2>>&);
 template void sample_mesh_body<3>(const scene::Scene&, std::size_t, std::vector<Vec<3>>&, std::vector<Vec<3>>&);

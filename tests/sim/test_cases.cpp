@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 
 #include "scene/scene.hpp"
 #include "sim/diagnostics.hpp"
@@ -28,9 +29,11 @@ void run_until(Simulation<D>& sim, double t) {
 
 }  // namespace
 
-TEST(Cases, HydrostaticTankHoldsStillWithHydrostaticPressure) {
-  // pipelines/hydrostatic_2d.json (dynamic boundary particles), settled for 1 s
-  Simulation<2> sim(load("hydrostatic_2d.json", {"time.end=1.0"}));
+class HydrostaticTank : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(HydrostaticTank, HoldsStillWithHydrostaticPressure) {
+  // pipelines/hydrostatic_2d*.json (dynamic boundary particles; box-built or mesh-built tank), 1 s
+  Simulation<2> sim(load(GetParam(), {"time.end=1.0"}));
   run_until(sim, 1.0);
   const double rho0 = 1000, g = 9.81, H = 0.3;
   const auto& f = sim.fields();
@@ -54,6 +57,29 @@ TEST(Cases, HydrostaticTankHoldsStillWithHydrostaticPressure) {
     EXPECT_NEAR(p, rho0 * g * (H - y), 0.02 * rho0 * g * H) << "band " << b << " at y = " << y;
   }
   EXPECT_LT(vmax, 0.01 * std::sqrt(g * H));
+}
+INSTANTIATE_TEST_SUITE_P(Cases, HydrostaticTank,
+                         ::testing::Values("hydrostatic_2d.json", "hydrostatic_2d_mesh.json"),
+                         [](const auto& info) { return info.param.find("mesh") != std::string::npos ? "MeshTank" : "BoxTank"; });
+
+TEST(Cases, MeshBodyErrorsAreInputErrorsNamingTheBodyAndFile) {
+  const auto dir = test::scratch_dir("mesh_errors");
+  auto j = nlohmann::json::parse(test::read_text(test::source_dir() / "pipelines" / "hydrostatic_2d_mesh.json"));
+  j["bodies"][1]["mesh"] = (test::source_dir() / "geometry" / "meshes" / "no_such_tank.poly2d").string();
+  std::ofstream(dir / "missing.json") << j.dump();
+  auto r = test::run_command(test::varsph_exe().string() + " sample " + (dir / "missing.json").string() + " -o " +
+                             (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bodies.1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no_such_tank.poly2d"), std::string::npos) << r.output;
+  // a fluid body entirely inside a boundary block: every fluid particle is removed -> exit 2
+  auto k = nlohmann::json::parse(test::read_text(test::source_dir() / "pipelines" / "hydrostatic_2d.json"));
+  k["bodies"][1] = {{"kind", "boundary"}, {"shape", "box"}, {"min", {-0.01, -0.01}}, {"max", {0.45, 0.35}}, {"layers", 16}};
+  std::ofstream(dir / "overlap.json") << k.dump();
+  r = test::run_command(test::varsph_exe().string() + " sample " + (dir / "overlap.json").string() + " -o " +
+                        (dir / "out2").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("overlaps a boundary body"), std::string::npos) << r.output;
 }
 
 TEST(Cases, PaperDamBreakRunsAndTheSurgeFrontAdvances) {
