@@ -1,0 +1,230 @@
+"""ParaView pipelines behind the state scripts (paraview/states/*.py) and postprocess.py snapshots.
+
+Needs ``paraview.simple`` (pvpython); rendering without a display needs ``xvfb-run -a pvpython``.
+Every function takes the run directory (or its .pvd), so the states work from any working directory.
+"""
+import os
+
+import numpy as np
+
+from .compat import load_plugin
+from .io import find_pvd, frames_of_run, read_vtu
+
+PRESSURE_LUT = "Cool to Warm"
+DEVIATION_LUT = "Viridis (matplotlib)"
+_loaded = {"__varsph__": True}   # non-empty: LoadPlugin ignores an empty ns
+
+
+def pv():
+    """paraview.simple with the varsph filters loaded (once)."""
+    from paraview import simple
+    if "varsphFreeSurface" not in _loaded:
+        load_plugin(ns=_loaded)
+    return simple
+
+
+def filters():
+    pv()
+    return _loaded
+
+
+def pressure_range(run, frame_index=0):
+    """Fixed colour range: fluid pressure of one frame (default the first), widened to include 0."""
+    fr = frames_of_run(run)
+    f = read_vtu(fr[frame_index][1], fr[frame_index][0])
+    p = np.asarray(f.arrays.get("pressure", np.zeros(1)), dtype=float)[f.fluid_mask()]
+    lo, hi = (float(min(0.0, p.min())), float(max(0.0, p.max()))) if len(p) else (0.0, 1.0)
+    if hi <= lo:
+        hi = lo + 1.0
+    return lo, hi
+
+
+def pick_time(reader, time=None):
+    ts = list(reader.TimestepValues) if hasattr(reader.TimestepValues, "__len__") else [reader.TimestepValues]
+    if not ts:
+        return 0.0
+    if time is None:
+        return ts[-1]
+    return min(ts, key=lambda t: abs(t - time))
+
+
+def open_run(run, name=None):
+    s = pv()
+    pvd = find_pvd(run)
+    r = s.PVDReader(registrationName=name or os.path.basename(os.path.dirname(os.path.abspath(pvd))),
+                    FileName=os.path.abspath(pvd))
+    r.UpdatePipelineInformation()
+    return r
+
+
+def _dimension_and_dx(run):
+    fr = frames_of_run(run)
+    f = read_vtu(fr[0][1], fr[0][0])
+    return f.dimension, (f.dx if "dx" in f.fields else 1.0)
+
+
+def new_view(size=(1200, 700)):
+    s = pv()
+    view = s.CreateView("RenderView")
+    view.ViewSize = list(size)
+    view.OrientationAxesVisibility = 0
+    view.Background = [1.0, 1.0, 1.0]
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    s.SetActiveView(view)
+    return view
+
+
+def _points(src, view, dx, color=None, opacity=1.0):
+    s = pv()
+    d = s.Show(src, view)
+    d.SetRepresentationType("Point Gaussian")
+    d.GaussianRadius = 0.5 * dx
+    d.ShaderPreset = "Plain circle"
+    if color is not None:
+        d.ColorArrayName = ['POINTS', '']
+        d.AmbientColor = color
+        d.DiffuseColor = color
+    d.Opacity = opacity
+    return d
+
+
+def _color(display, view, array, lut_name, rng, title):
+    s = pv()
+    s.ColorBy(display, ("POINTS", array))
+    lut = s.GetColorTransferFunction(array)
+    lut.ApplyPreset(lut_name, True)
+    lut.RescaleTransferFunction(rng[0], rng[1])
+    lut.AutomaticRescaleRangeMode = "Never"
+    display.SetScalarBarVisibility(view, True)
+    bar = s.GetScalarBar(lut, view)
+    bar.Title = title
+    bar.ComponentTitle = ""
+    bar.TitleColor = [0, 0, 0]
+    bar.LabelColor = [0, 0, 0]
+    return lut
+
+
+def _camera(view, dim):
+    s = pv()
+    view.ResetCamera()
+    if dim == 2:
+        view.InteractionMode = "2D"
+        cam = view.GetActiveCamera()
+        fp = cam.GetFocalPoint()
+        cam.SetPosition(fp[0], fp[1], fp[2] + 10.0)
+        cam.SetViewUp(0, 1, 0)
+        view.ResetCamera()
+    else:
+        view.CameraPosition = [1, -2, 1.2]
+        view.CameraFocalPoint = [0, 0, 0]
+        view.CameraViewUp = [0, 0, 1]
+        view.ResetCamera()
+    s.Render(view)
+
+
+def _label(view, text):
+    s = pv()
+    t = s.Text(Text=text)
+    d = s.Show(t, view)
+    d.Color = [0, 0, 0]
+    d.WindowLocation = "Upper Left Corner"
+    d.FontSize = 14
+    return t
+
+
+def _set_time(view, t):
+    s = pv()
+    view.ViewTime = t
+    try:
+        s.GetAnimationScene().AnimationTime = t
+    except Exception:
+        pass
+
+
+def free_surface_state(run, time=None, surface=False, prange=None, view=None):
+    """(1) free-surface particles coloured by pressure over the (faded) fluid; boundary in grey."""
+    s = pv()
+    f = filters()
+    dim, dx = _dimension_and_dx(run)
+    view = view or new_view()
+    r = open_run(run)
+    t = pick_time(r, time)
+    fs = f["varsphFreeSurface"](registrationName="FreeSurface", Input=r, ReconstructSurface=int(bool(surface)))
+    walls = s.Threshold(registrationName="Boundary", Input=r, Scalars=["POINTS", "kind"],
+                        LowerThreshold=1, UpperThreshold=1)
+    fluid = s.Threshold(registrationName="Fluid", Input=r, Scalars=["POINTS", "kind"],
+                        LowerThreshold=0, UpperThreshold=0)
+    surf = s.Threshold(registrationName="FreeSurfaceParticles", Input=fs, Scalars=["POINTS", "free_surface"],
+                       LowerThreshold=1, UpperThreshold=1)
+    _points(walls, view, dx, color=[0.45, 0.45, 0.45])
+    _points(fluid, view, dx, color=[0.75, 0.85, 0.95], opacity=1.0)
+    d = _points(surf, view, dx * 1.4)
+    _color(d, view, "pressure", PRESSURE_LUT, prange or pressure_range(run), "pressure [Pa]")
+    if surface:
+        sd = s.Show(s.OutputPort(fs, 1), view)
+        sd.ColorArrayName = ['POINTS', '']
+        sd.AmbientColor = sd.DiffuseColor = [0.1, 0.1, 0.1]
+        sd.LineWidth = 2.0
+    _label(view, "free surface (Marrone et al. 2010)  t = %.4g s" % t)
+    _set_time(view, t)
+    _camera(view, dim)
+    return view
+
+
+def pressure_state(run, time=None, prange=None, view=None):
+    """(2) fluid pressure with a fixed colour map (range of the first frame unless given) and colour bar."""
+    s = pv()
+    dim, dx = _dimension_and_dx(run)
+    view = view or new_view()
+    r = open_run(run)
+    t = pick_time(r, time)
+    walls = s.Threshold(registrationName="Boundary", Input=r, Scalars=["POINTS", "kind"],
+                        LowerThreshold=1, UpperThreshold=1)
+    fluid = s.Threshold(registrationName="Fluid", Input=r, Scalars=["POINTS", "kind"],
+                        LowerThreshold=0, UpperThreshold=0)
+    _points(walls, view, dx, color=[0.45, 0.45, 0.45])
+    d = _points(fluid, view, dx)
+    _color(d, view, "pressure", PRESSURE_LUT, prange or pressure_range(run), "pressure [Pa]")
+    _label(view, "pressure  t = %.4g s" % t)
+    _set_time(view, t)
+    _camera(view, dim)
+    return view
+
+
+def deviation_state(run_a, run_b, time=None, drange=None, view=None):
+    """(3) run A's fluid particles coloured by |q_A - q_B| (matched by id), D_max in the title."""
+    s = pv()
+    f = filters()
+    dim, dx = _dimension_and_dx(run_a)
+    view = view or new_view()
+    ra = open_run(run_a, "A")
+    rb = open_run(run_b, "B")
+    t = pick_time(ra, time)
+    dev = f["varsphDeviation"](registrationName="Deviation", Input=ra, Reference=rb)
+    fluid = s.Threshold(registrationName="FluidDeviation", Input=dev, Scalars=["POINTS", "kind"],
+                        LowerThreshold=0, UpperThreshold=0)
+    walls = s.Threshold(registrationName="Boundary", Input=ra, Scalars=["POINTS", "kind"],
+                        LowerThreshold=1, UpperThreshold=1)
+    _points(walls, view, dx, color=[0.45, 0.45, 0.45])
+    d = _points(fluid, view, dx)
+    dev.UpdatePipeline(t)
+    from paraview import servermanager as sm
+    data = sm.Fetch(dev)
+    dmax = data.GetFieldData().GetArray("D_max").GetValue(0) if data.GetFieldData().GetArray("D_max") else 0.0
+    rng = drange or (0.0, dmax if dmax > 0 else 1.0)
+    _color(d, view, "deviation_magnitude", DEVIATION_LUT, rng, "|q_A - q_B| [m]")
+    _label(view, "deviation A - B (eq. 70)  t = %.4g s  D_max = %.4g m" % (t, dmax))
+    _set_time(view, t)
+    _camera(view, dim)
+    return view
+
+
+def screenshot(view, path, size=(1200, 700)):
+    s = pv()
+    os.makedirs(os.path.dirname(os.path.abspath(path)) or ".", exist_ok=True)
+    s.Render(view)
+    s.SaveScreenshot(path, view, ImageResolution=list(size))
+    return path
