@@ -30,6 +30,7 @@ def finish(view, args):
     from varsph import pvstate
     if args.screenshot:
         print("wrote", pvstate.screenshot(view, args.screenshot, args.size))
+        pvstate.hard_exit(0)
     else:
         from paraview import simple
         simple.Render(view)

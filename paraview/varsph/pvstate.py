@@ -4,6 +4,7 @@ Needs ``paraview.simple`` (pvpython); rendering without a display needs ``xvfb-r
 Every function takes the run directory (or its .pvd), so the states work from any working directory.
 """
 import os
+import sys
 
 import numpy as np
 
@@ -135,6 +136,9 @@ def _label(view, text):
     return t
 
 
+_STATES = {}
+
+
 def _set_time(view, t):
     s = pv()
     view.ViewTime = t
@@ -142,6 +146,22 @@ def _set_time(view, t):
         s.GetAnimationScene().AnimationTime = t
     except Exception:
         pass
+
+
+def _register(view, label, fmt, **extra):
+    _STATES[view.GetGlobalIDAsString()] = dict(label=label, fmt=fmt, **extra)
+
+
+def set_time(view, t):
+    """Show time ``t`` (nearest frame) in a view built by one of the *_state functions."""
+    st = _STATES.get(view.GetGlobalIDAsString())
+    _set_time(view, t)
+    if st:
+        extra = {}
+        if "deviation" in st:
+            extra["dmax"] = _dmax(st["deviation"], t)
+        st["label"].Text = st["fmt"].format(t=t, **extra)
+    pv().Render(view)
 
 
 def free_surface_state(run, time=None, surface=False, prange=None, view=None):
@@ -168,8 +188,9 @@ def free_surface_state(run, time=None, surface=False, prange=None, view=None):
         sd.ColorArrayName = ['POINTS', '']
         sd.AmbientColor = sd.DiffuseColor = [0.1, 0.1, 0.1]
         sd.LineWidth = 2.0
-    _label(view, "free surface (Marrone et al. 2010)  t = %.4g s" % t)
-    _set_time(view, t)
+    lab = _label(view, "")
+    _register(view, lab, "free surface (Marrone et al. 2010)  t = {t:.4g} s")
+    set_time(view, t)
     _camera(view, dim)
     return view
 
@@ -188,8 +209,9 @@ def pressure_state(run, time=None, prange=None, view=None):
     _points(walls, view, dx, color=[0.45, 0.45, 0.45])
     d = _points(fluid, view, dx)
     _color(d, view, "pressure", PRESSURE_LUT, prange or pressure_range(run), "pressure [Pa]")
-    _label(view, "pressure  t = %.4g s" % t)
-    _set_time(view, t)
+    lab = _label(view, "")
+    _register(view, lab, "pressure  t = {t:.4g} s")
+    set_time(view, t)
     _camera(view, dim)
     return view
 
@@ -210,16 +232,21 @@ def deviation_state(run_a, run_b, time=None, drange=None, view=None):
                         LowerThreshold=1, UpperThreshold=1)
     _points(walls, view, dx, color=[0.45, 0.45, 0.45])
     d = _points(fluid, view, dx)
-    dev.UpdatePipeline(t)
-    from paraview import servermanager as sm
-    data = sm.Fetch(dev)
-    dmax = data.GetFieldData().GetArray("D_max").GetValue(0) if data.GetFieldData().GetArray("D_max") else 0.0
+    dmax = _dmax(dev, t)
     rng = drange or (0.0, dmax if dmax > 0 else 1.0)
     _color(d, view, "deviation_magnitude", DEVIATION_LUT, rng, "|q_A - q_B| [m]")
-    _label(view, "deviation A - B (eq. 70)  t = %.4g s  D_max = %.4g m" % (t, dmax))
-    _set_time(view, t)
+    lab = _label(view, "")
+    _register(view, lab, "deviation A - B (eq. 70)  t = {t:.4g} s  D_max = {dmax:.4g} m", deviation=dev)
+    set_time(view, t)
     _camera(view, dim)
     return view
+
+
+def _dmax(dev, t):
+    from paraview import servermanager as sm
+    dev.UpdatePipeline(t)
+    a = sm.Fetch(dev).GetFieldData().GetArray("D_max")
+    return a.GetValue(0) if a is not None else float("nan")
 
 
 def screenshot(view, path, size=(1200, 700)):
@@ -228,3 +255,14 @@ def screenshot(view, path, size=(1200, 700)):
     s.Render(view)
     s.SaveScreenshot(path, view, ImageResolution=list(size))
     return path
+
+
+def hard_exit(code=0):
+    """Exit without ParaView's interpreter teardown.
+
+    pvpython 5.11 under xvfb-run intermittently crashes (SIGSEGV/SIGABRT) while tearing down render views
+    at interpreter exit, after all files are written, which turns a successful run into a failed exit status.
+    Everything is written and closed by now, so flush and leave with the real status."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
