@@ -173,7 +173,7 @@ def main(argv=None):
             note(surge.write_table_csv(have, np.column_stack([c[h] for h in have]),
                                        os.path.join(post, "momentum.csv")))
             plot(os.path.join(post, "momentum_Q.png"), c["time"], [("Q", c["momentum_Q"])],
-                 "time [s]", "Q = |sum m v| / M", "linear momentum Q(t)")
+                 "time [s]", "Q = |sum_i m_i v_i| / M", "linear momentum Q(t) (M = number of fluid particles)")
         else:
             print("diagnostics.csv lacks time/momentum_Q; no momentum plot")
     else:
