@@ -147,10 +147,12 @@ def write_run(run_dir, frames, name="run", diagnostics=True, probes=False):
     return pvd
 
 
-def dam_break_run(run_dir, nframes=4, dimension=2, dx=0.02, name="dam", with_walls=True, kernel="wendland_c2"):
+def dam_break_run(run_dir, nframes=4, dimension=2, dx=0.02, name="dam", with_walls=True, kernel="wendland_c2",
+                  shift=(0.0, 0.0, 0.0), probes=True):
     """A small 'collapsing column' run: a fluid block that spreads to the right, plus a floor and a left wall.
 
-    Pressure is hydrostatic (rho0 g (H - y)); positions are a simple affine spreading with time."""
+    Pressure is hydrostatic (rho0 g (H - y)); positions are a simple affine spreading with time:
+    x = x0 (1 + 1.5 t), y = y0 / (1 + 1.5 t); the fluid is then moved by ``shift``."""
     nx, ny = 10, 20
     nz = 4 if dimension == 3 else None
     n = (nx, ny) if dimension == 2 else (nx, ny, nz)
@@ -168,6 +170,7 @@ def dam_break_run(run_dir, nframes=4, dimension=2, dx=0.02, name="dam", with_wal
         p = base.copy()
         p[:, 0] *= s
         p[:, 1] /= s
+        p += np.asarray(shift, dtype=float)
         vel = np.zeros_like(p)
         vel[:, 0] = 1.5 * base[:, 0]
         vel[:, 1] = -0.5 * base[:, 1]
@@ -179,4 +182,4 @@ def dam_break_run(run_dir, nframes=4, dimension=2, dx=0.02, name="dam", with_wal
         normal[len(p):, 1] = 1.0
         frames.append(make_frame(pts, dx, dimension, time=t, step=100 * k, kind=kind, velocity=velocity,
                                  pressure=pres, normal=normal, kernel=kernel))
-    return write_run(run_dir, frames, name=name, probes=True)
+    return write_run(run_dir, frames, name=name, probes=probes)

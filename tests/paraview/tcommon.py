@@ -49,7 +49,8 @@ def finish(tmp=None):
 
 
 def image_stats(path):
-    """(width, height, number of distinct colours, std of the pixel values) of a PNG."""
+    """(width, height, number of distinct colours, std of the pixel values, fraction of coloured pixels)
+    of a PNG; coloured = channel spread max - min > 40 (the colour-mapped particles, not grey/white)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkIOImage import vtkPNGReader
     r = vtkPNGReader()
@@ -60,4 +61,6 @@ def image_stats(path):
     px = vtk_to_numpy(img.GetPointData().GetScalars())
     px = px.reshape(w * h, -1)
     ncol = len({tuple(v) for v in px[:: max(1, len(px) // 20000)]})
-    return w, h, ncol, float(px.astype(float).std())
+    rgb = px[:, :3].astype(int)
+    coloured = float(((rgb.max(axis=1) - rgb.min(axis=1)) > 40).mean())
+    return w, h, ncol, float(px.astype(float).std()), coloured
