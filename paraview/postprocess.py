@@ -128,7 +128,8 @@ def main(argv=None):
     # frames read once for the tables
     loaded = [vio.read_vtu(p, t) for t, p in frames]
 
-    cols, rows = surge.surge_series(run, floats(a.gauges), frames=loaded)
+    vert = vio.vertical_axis(run, loaded[0].dimension)   # opposite gravity in run.json, else y (2D) / z (3D)
+    cols, rows = surge.surge_series(run, floats(a.gauges), vertical=vert, frames=loaded)
     note(surge.write_table_csv(cols, rows, os.path.join(post, "surge_front.csv")))
     r = np.asarray(rows, dtype=float)
     plot(os.path.join(post, "surge_front.png"), r[:, 0], [("front x", r[:, 1])] +

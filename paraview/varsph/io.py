@@ -150,3 +150,36 @@ def read_run(run, times=None, tol=1e-9):
         if times is not None and not any(abs(t - s) <= tol for s in times):
             continue
         yield read_vtu(path, time=t)
+
+
+def gravity_of_run(run):
+    """The gravity vector from RUN/run.json (the resolved scene), or None."""
+    import json
+    d = run if os.path.isdir(run) else os.path.dirname(run)
+    path = os.path.join(d, "run.json")
+    if not os.path.isfile(path):
+        return None
+    try:
+        with open(path) as f:
+            doc = json.load(f)
+    except (OSError, ValueError):
+        return None
+    stack = [doc]
+    while stack:
+        x = stack.pop()
+        if isinstance(x, dict):
+            g = x.get("gravity")
+            if isinstance(g, list) and len(g) in (2, 3) and all(isinstance(v, (int, float)) for v in g):
+                return [float(v) for v in g] + [0.0] * (3 - len(g))
+            stack.extend(x.values())
+        elif isinstance(x, list):
+            stack.extend(v for v in x if isinstance(v, (dict, list)))
+    return None
+
+
+def vertical_axis(run, dimension):
+    """Axis opposite to gravity (run.json), else y in 2D and z in 3D."""
+    g = gravity_of_run(run)
+    if g is not None and any(v != 0 for v in g[:dimension]):
+        return int(np.argmax(np.abs(g[:dimension])))
+    return 1 if dimension == 2 else 2

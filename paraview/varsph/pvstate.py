@@ -9,7 +9,7 @@ import sys
 import numpy as np
 
 from .compat import load_plugin
-from .io import find_pvd, frames_of_run, read_vtu
+from .io import find_pvd, frames_of_run, read_vtu, vertical_axis
 
 PRESSURE_LUT = "Cool to Warm"
 DEVIATION_LUT = "Viridis (matplotlib)"
@@ -64,6 +64,11 @@ def _dimension_and_dx(run):
     return f.dimension, (f.dx if "dx" in f.fields else 1.0)
 
 
+def _up(run):
+    dim, _ = _dimension_and_dx(run)
+    return vertical_axis(run, dim)
+
+
 def new_view(size=(1200, 700)):
     s = pv()
     view = s.CreateView("RenderView")
@@ -73,6 +78,10 @@ def new_view(size=(1200, 700)):
     try:
         view.UseColorPaletteForBackground = 0
     except AttributeError:
+        pass
+    try:  # in the GUI the view must sit in a layout to be visible
+        s.AssignViewToLayout(view)
+    except Exception:
         pass
     s.SetActiveView(view)
     return view
@@ -108,21 +117,28 @@ def _color(display, view, array, lut_name, rng, title):
     return lut
 
 
-def _camera(view, dim):
+def _camera(view, dim, up=2):
+    """2D: look down -z. 3D: oblique view with the vertical axis (opposite gravity) up."""
     s = pv()
     view.ResetCamera()
+    cam = view.GetActiveCamera()
+    fp = cam.GetFocalPoint()
     if dim == 2:
         view.InteractionMode = "2D"
-        cam = view.GetActiveCamera()
-        fp = cam.GetFocalPoint()
         cam.SetPosition(fp[0], fp[1], fp[2] + 10.0)
         cam.SetViewUp(0, 1, 0)
-        view.ResetCamera()
     else:
-        view.CameraPosition = [1, -2, 1.2]
-        view.CameraFocalPoint = [0, 0, 0]
-        view.CameraViewUp = [0, 0, 1]
-        view.ResetCamera()
+        upv = [0.0, 0.0, 0.0]
+        upv[up] = 1.0
+        # look from +x... rotated so that 'up' is up: a direction with components on the other two axes
+        others = [k for k in range(3) if k != up]
+        d = [0.0, 0.0, 0.0]
+        d[others[0]] = 0.6
+        d[others[1]] = -1.0
+        d[up] = 0.7
+        cam.SetPosition(fp[0] + d[0], fp[1] + d[1], fp[2] + d[2])
+        cam.SetViewUp(*upv)
+    view.ResetCamera()
     s.Render(view)
 
 
@@ -186,12 +202,16 @@ def free_surface_state(run, time=None, surface=False, prange=None, view=None):
     if surface:
         sd = s.Show(s.OutputPort(fs, 1), view)
         sd.ColorArrayName = ['POINTS', '']
-        sd.AmbientColor = sd.DiffuseColor = [0.1, 0.1, 0.1]
-        sd.LineWidth = 2.0
+        if dim == 2:
+            sd.AmbientColor = sd.DiffuseColor = [0.1, 0.1, 0.1]
+            sd.LineWidth = 2.0
+        else:
+            sd.AmbientColor = sd.DiffuseColor = [0.3, 0.55, 0.9]
+            sd.Opacity = 0.35
     lab = _label(view, "")
     _register(view, lab, "free surface (Marrone et al. 2010)  t = {t:.4g} s")
     set_time(view, t)
-    _camera(view, dim)
+    _camera(view, dim, _up(run))
     return view
 
 
@@ -212,7 +232,7 @@ def pressure_state(run, time=None, prange=None, view=None):
     lab = _label(view, "")
     _register(view, lab, "pressure  t = {t:.4g} s")
     set_time(view, t)
-    _camera(view, dim)
+    _camera(view, dim, _up(run))
     return view
 
 
@@ -238,7 +258,7 @@ def deviation_state(run_a, run_b, time=None, drange=None, view=None):
     lab = _label(view, "")
     _register(view, lab, "deviation A - B (eq. 70)  t = {t:.4g} s  D_max = {dmax:.4g} m", deviation=dev)
     set_time(view, t)
-    _camera(view, dim)
+    _camera(view, dim, _up(run_a))
     return view
 
 
