@@ -22,41 +22,63 @@ import math
 import numpy as np
 
 from .kernels import kernel_from_fields
-from .neighbors import pairs
+from .neighbors import NeighbourSearch
 
 LAMBDA_SURFACE = 0.2
 LAMBDA_INTERIOR = 0.75
+TIE = 1e-9
 
 
 def free_surface(frame, kernel=None, include_boundary=True, scan=True,
-                 lambda_surface=LAMBDA_SURFACE, lambda_interior=LAMBDA_INTERIOR, return_details=False):
+                 lambda_surface=LAMBDA_SURFACE, lambda_interior=LAMBDA_INTERIOR, return_details=False,
+                 chunk=100_000):
     """0/1 int array over all particles of ``frame`` (boundary particles are always 0).
 
+    Works on ``chunk`` fluid particles at a time (bounded memory on large 3D runs).
     With ``return_details`` also returns dict(lambda_=..., normal=...)."""
     kernel = kernel or kernel_from_fields(frame.fields)
     d = frame.dimension
-    h = kernel.h
     n = len(frame)
     fluid = frame.fluid_mask()
     use = np.ones(n, dtype=bool) if include_boundary else fluid.copy()
-    idx = np.nonzero(use)[0]
+    idx = np.nonzero(use)[0]                   # particles taking part (neighbours)
     x = frame.points[idx, :d]
     V = frame.volume()[idx]
-    i, j = pairs(x, kernel.support_radius)
-    xij = x[i] - x[j]
+    search = NeighbourSearch(x, kernel.support_radius)
+    targets = np.nonzero(fluid[idx])[0]        # rows of x that are fluid: the only ones flagged
+    out = np.zeros(n, dtype=np.int32)
+    lam_all = np.full(n, np.nan)
+    nrm_all = np.zeros((n, 3))
+    for rows in np.array_split(targets, max(1, int(np.ceil(len(targets) / float(chunk))))):
+        if len(rows) == 0:
+            continue
+        flag, lam, normal = _detect(x, V, rows, search, kernel, d, scan, lambda_surface, lambda_interior)
+        out[idx[rows]] = flag
+        lam_all[idx[rows]] = lam
+        nrm_all[idx[rows], :d] = normal
+    if not return_details:
+        return out
+    return out, {"lambda_": lam_all, "normal": nrm_all}
+
+
+def _detect(x, V, rows, search, kernel, d, scan, lambda_surface, lambda_interior):
+    """Marrone's two steps for the particles x[rows] (neighbours: all of x)."""
+    h = kernel.h
+    m = len(rows)
+    i, j = search.query(x[rows])               # i: local row, j: index into x
+    xij = x[rows][i] - x[j]
     r = np.sqrt((xij * xij).sum(axis=1))
-    good = r > 0
+    good = r > 0                                # drops the particle itself
     i, j, xij, r = i[good], j[good], xij[good], r[good]
     gradW = (kernel.dWdr(r) / r)[:, None] * xij          # grad_i W_ij
-    m = len(idx)
     # L_i = sum_j V_j (x_j - x_i) (x) grad_i W_ij
     L = np.zeros((m, d, d))
-    contrib = V[j][:, None, None] * (-xij)[:, :, None] * gradW[:, None, :]
-    np.add.at(L, i, contrib)
+    for a in range(d):
+        for b in range(d):
+            L[:, a, b] = np.bincount(i, weights=V[j] * (-xij[:, a]) * gradW[:, b], minlength=m)
     Ls = 0.5 * (L + np.transpose(L, (0, 2, 1)))
     lam = np.linalg.eigvalsh(Ls)[:, 0]
-    g = np.zeros((m, d))
-    np.add.at(g, i, V[j][:, None] * gradW)
+    g = np.stack([np.bincount(i, weights=V[j] * gradW[:, a], minlength=m) for a in range(d)], axis=1)
     # nu = -L^-1 g (fall back to -g where L is singular)
     nu = -g.copy()
     det = np.linalg.det(L)
@@ -74,35 +96,28 @@ def free_surface(frame, kernel=None, include_boundary=True, scan=True,
         # scan test for candidates: covered (= not surface) if any neighbour lies in the umbrella region
         c = cand[i]
         ci, cj = i[c], j[c]
-        T = x[ci] + h * normal[ci]
+        xi = x[rows][ci]
+        T = xi + h * normal[ci]
         xjT = x[cj] - T
-        xji = x[cj] - x[ci]
+        xji = x[cj] - xi
         rji = np.linalg.norm(xji, axis=1)
+        # ties (exact on lattices) count as outside the region, whatever the round-off: tolerance TIE
         far = rji >= math.sqrt(2.0) * h
-        cov = far & (np.linalg.norm(xjT, axis=1) < h)
+        cov = far & (np.linalg.norm(xjT, axis=1) < h * (1.0 - TIE))
         nrm = normal[ci]
         if d == 2:
             tau = np.stack([-nrm[:, 1], nrm[:, 0]], axis=1)
-            near = (~far) & (np.abs((nrm * xjT).sum(1)) + np.abs((tau * xjT).sum(1)) < h)
+            near = (~far) & (np.abs((nrm * xjT).sum(1)) + np.abs((tau * xjT).sum(1)) < h * (1.0 - TIE))
         else:
             cosang = (nrm * xji).sum(1) / np.maximum(rji, 1e-300)
-            near = (~far) & (cosang > math.cos(math.pi / 4.0))
+            near = (~far) & (cosang > math.cos(math.pi / 4.0) + TIE)
         cov |= near
         covered = np.zeros(m, dtype=bool)
         covered[ci[cov]] = True
         flag |= cand & ~covered
     else:
         flag |= cand
-    out = np.zeros(n, dtype=np.int32)
-    out[idx] = flag.astype(np.int32)
-    out[~fluid] = 0
-    if not return_details:
-        return out
-    lam_all = np.full(n, np.nan)
-    lam_all[idx] = lam
-    nrm_all = np.zeros((n, 3))
-    nrm_all[idx, :d] = normal
-    return out, {"lambda_": lam_all, "normal": nrm_all}
+    return flag.astype(np.int32), lam, normal
 
 
 def colour_field_image(frame, kernel=None, spacing=None, max_cells=4_000_000):

@@ -6,67 +6,82 @@ try:
 except Exception:  # scipy missing in this ParaView build
     _KDTree = None
 
+_EMPTY = np.zeros(0, dtype=np.int64)
 
-def pairs(points, radius):
-    """All ordered pairs (i, j), i != j, with |x_i - x_j| <= radius. Returns (i, j) int arrays."""
-    points = np.ascontiguousarray(points, dtype=float)
-    if len(points) == 0:
-        e = np.zeros(0, dtype=np.int64)
-        return e, e
-    if _KDTree is not None:
-        p = _KDTree(points).query_pairs(radius, output_type="ndarray")
-        if len(p) == 0:
-            e = np.zeros(0, dtype=np.int64)
-            return e, e
-        return np.concatenate([p[:, 0], p[:, 1]]), np.concatenate([p[:, 1], p[:, 0]])
-    return neighbours_of(points, points, radius, exclude_self=True)
+
+class NeighbourSearch:
+    """Points within ``radius`` of query points; the tree / cell list is built once for many queries."""
+
+    def __init__(self, points, radius):
+        pts = np.ascontiguousarray(points, dtype=float)
+        self.dim = pts.shape[1] if pts.ndim == 2 else 3
+        self.radius = float(radius)
+        self.n = len(pts)
+        self.tree = None
+        if self.n == 0:
+            return
+        if _KDTree is not None:
+            self.tree = _KDTree(pts)
+            return
+        if pts.shape[1] < 3:
+            pts = np.pad(pts, ((0, 0), (0, 3 - pts.shape[1])))
+        self.pts = pts
+        self.origin = pts.min(axis=0) - 2 * self.radius
+        pk = np.floor((pts - self.origin) / self.radius).astype(np.int64)
+        self.dims = pk.max(axis=0) + 3
+        lin = self._lin(pk)
+        self.order = np.argsort(lin, kind="stable")
+        self.sorted_lin = lin[self.order]
+
+    def _lin(self, k):
+        return k[:, 0] + self.dims[0] * (k[:, 1] + self.dims[1] * k[:, 2])
+
+    def query(self, queries):
+        """(k, j): query index k and point index j with |q_k - x_j| <= radius."""
+        q = np.ascontiguousarray(np.atleast_2d(queries), dtype=float)
+        if self.n == 0 or len(q) == 0:
+            return _EMPTY, _EMPTY
+        if self.tree is not None:
+            # dual-tree search in C (keeps zero distances); much faster than query_ball_point's lists
+            res = _KDTree(q[:, :self.dim]).sparse_distance_matrix(self.tree, self.radius, output_type="ndarray")
+            return res["i"].astype(np.int64), res["j"].astype(np.int64)
+        if q.shape[1] < 3:
+            q = np.pad(q, ((0, 0), (0, 3 - q.shape[1])))
+        qk = np.floor((q - self.origin) / self.radius).astype(np.int64)
+        inside = np.all((qk >= 1) & (qk <= self.dims - 2), axis=1)
+        ks, js = [], []
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for dz in (-1, 0, 1):
+                    c = self._lin(qk + np.array([dx, dy, dz]))
+                    c[~inside] = -1
+                    lo = np.searchsorted(self.sorted_lin, c, side="left")
+                    hi = np.searchsorted(self.sorted_lin, c, side="right")
+                    cnt = hi - lo
+                    tot = int(cnt.sum())
+                    if tot == 0:
+                        continue
+                    k = np.repeat(np.arange(len(q)), cnt)
+                    start = np.repeat(lo - np.concatenate([[0], np.cumsum(cnt)[:-1]]), cnt)
+                    ks.append(k)
+                    js.append(self.order[start + np.arange(tot)])
+        if not ks:
+            return _EMPTY, _EMPTY
+        k = np.concatenate(ks)
+        j = np.concatenate(js)
+        keep = ((q[k] - self.pts[j]) ** 2).sum(axis=1) <= self.radius * self.radius
+        return k[keep], j[keep]
 
 
 def neighbours_of(points, queries, radius, exclude_self=False):
-    """Pairs (k, j): query k and point j within ``radius``. Returns (k, j) int arrays."""
-    points = np.ascontiguousarray(points, dtype=float)
-    queries = np.ascontiguousarray(np.atleast_2d(queries), dtype=float)
-    if points.shape[1] < 3 and _KDTree is None:  # the cell list works in 3D
-        points = np.pad(points, ((0, 0), (0, 3 - points.shape[1])))
-        queries = np.pad(queries, ((0, 0), (0, 3 - queries.shape[1])))
-    if len(points) == 0 or len(queries) == 0:
-        e = np.zeros(0, dtype=np.int64)
-        return e, e
-    if _KDTree is not None and not exclude_self:
-        lists = _KDTree(points).query_ball_point(queries, radius)
-        k = np.repeat(np.arange(len(queries)), [len(l) for l in lists])
-        j = np.fromiter((x for l in lists for x in l), dtype=np.int64, count=len(k))
-        return k, j
-    # cell list: bin the points, visit the 27 neighbouring cells of each query
-    origin = np.minimum(points.min(axis=0), queries.min(axis=0))
-    pk = np.floor((points - origin) / radius).astype(np.int64) + 1
-    qk = np.floor((queries - origin) / radius).astype(np.int64) + 1
-    dims = np.maximum(pk.max(axis=0), qk.max(axis=0)) + 2
-    lin = pk[:, 0] + dims[0] * (pk[:, 1] + dims[1] * pk[:, 2])
-    order = np.argsort(lin, kind="stable")
-    sorted_lin = lin[order]
-    ks, js = [], []
-    for dx in (-1, 0, 1):
-        for dy in (-1, 0, 1):
-            for dz in (-1, 0, 1):
-                c = (qk[:, 0] + dx) + dims[0] * ((qk[:, 1] + dy) + dims[1] * (qk[:, 2] + dz))
-                lo = np.searchsorted(sorted_lin, c, side="left")
-                hi = np.searchsorted(sorted_lin, c, side="right")
-                cnt = hi - lo
-                if cnt.sum() == 0:
-                    continue
-                k = np.repeat(np.arange(len(queries)), cnt)
-                start = np.repeat(lo - np.concatenate([[0], np.cumsum(cnt)[:-1]]), cnt)
-                j = order[start + np.arange(cnt.sum())]
-                ks.append(k)
-                js.append(j)
-    if not ks:
-        e = np.zeros(0, dtype=np.int64)
-        return e, e
-    k = np.concatenate(ks)
-    j = np.concatenate(js)
-    d2 = ((queries[k] - points[j]) ** 2).sum(axis=1)
-    keep = d2 <= radius * radius
+    """Pairs (k, j): query k and point j within ``radius`` (exclude_self drops k == j)."""
+    k, j = NeighbourSearch(points, radius).query(queries)
     if exclude_self:
-        keep &= k != j
-    return k[keep], j[keep]
+        keep = k != j
+        return k[keep], j[keep]
+    return k, j
+
+
+def pairs(points, radius):
+    """All ordered pairs (i, j), i != j, with |x_i - x_j| <= radius."""
+    return neighbours_of(points, points, radius, exclude_self=True)

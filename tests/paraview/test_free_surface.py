@@ -80,4 +80,16 @@ b = mesh.GetBounds()
 T.check(mesh.GetNumberOfPoints() > 20, "surface mesh has %d points" % mesh.GetNumberOfPoints())
 T.check(abs(b[0] - 0.0) < dx and abs(b[1] - 1.2) < dx and abs(b[2] - 0.0) < dx and abs(b[3] - 0.9) < dx,
         "surface contour bounds %s within dx of the block [0,1.2]x[0,0.9]" % (tuple(round(v, 3) for v in b[:4]),))
+# chunked evaluation and the numpy cell list (no scipy) give the same flags
+ball = run_frame("ball_chunks", S.lattice_ball(0.8, dx, 3), 3, "wendland_c2", 1.3)
+ref = V.free_surface(ball)
+T.check(np.array_equal(V.free_surface(ball, chunk=97), ref), "chunked (97 particles per chunk) = one chunk")
+import varsph.neighbors as N  # noqa: E402
+saved, N._KDTree = N._KDTree, None
+try:
+    T.check(np.array_equal(V.free_surface(ball), ref), "numpy cell list = scipy cKDTree")
+    T.check(np.array_equal(V.free_surface(blk), V.free_surface(blk)) and V.free_surface(blk).sum() == 38,
+            "numpy cell list, 2D block: 38 outer particles")
+finally:
+    N._KDTree = saved
 T.finish(tmp)
