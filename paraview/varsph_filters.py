@@ -25,7 +25,6 @@ from varsph.compat import patch_inspect  # noqa: E402
 patch_inspect()  # Python 3.11 + ParaView 5.11: paraview.util.vtkAlgorithm needs inspect.getargspec
 
 import numpy as np  # noqa: E402
-from vtkmodules.numpy_interface import dataset_adapter as dsa  # noqa: E402
 from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkDoubleArray  # noqa: E402
@@ -263,10 +262,10 @@ class Deviation(VTKPythonAlgorithmBase):
         return 1
 
     def RequestData(self, request, inInfo, outInfo):
-        A, dsa_ = _input_frame(inInfo, 0)
+        A, ds_a = _input_frame(inInfo, 0)
         B, _ = _input_frame(inInfo, 1)
         out = vtkDataSet.GetData(outInfo)
-        out.ShallowCopy(dsa_)
+        out.ShallowCopy(ds_a)
         r = varsph.deviation_frame(A, B)
         if abs(A.time - B.time) > _dev.TIME_TOLERANCE:
             print("varsph Deviation: frame times differ (A %.12g, B %.12g); run B has no frame at A's time"
