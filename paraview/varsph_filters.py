@@ -38,6 +38,7 @@ from varsph import deviation as _dev  # noqa: E402
 from varsph import surge as _surge  # noqa: E402
 
 _CATEGORY = '<ShowInMenu category="varsph" />'
+EXECUTIONS = {}   # RequestData calls per filter class (frames processed), for tests and diagnostics
 
 
 def _add_point_array(ds, name, values):
@@ -94,6 +95,7 @@ class _OverTime(VTKPythonAlgorithmBase):
         return 1
 
     def RequestData(self, request, inInfo, outInfo):
+        EXECUTIONS[type(self).__name__] = EXECUTIONS.get(type(self).__name__, 0) + 1
         if self._k == 0:
             self._rows = []
         t = self._times[self._k] if self._times else None

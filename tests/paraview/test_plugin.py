@@ -93,6 +93,12 @@ T.check(np.allclose(vals[:, 1], 9.5 * dx * s, atol=1e-12), "SurgeFront front_x =
 T.check(np.allclose(vals[:, 2], 9.5 * dx * (s - 1), atol=1e-12), "SurgeFront front_rel from the first frame")
 T.check(np.allclose(vals[:, 3], 19.5 * dx / s + 0.5 * dx, atol=1e-12), "SurgeFront water height at x = 0.1")
 T.check(np.all(vals[:, 4] == 0), "SurgeFront dry gauge reads 0")
+E = __import__("sys").modules["varsph_filters"].EXECUTIONS
+before = E.get("SurgeFront", 0)
+sf.UpdatePipeline(0.1)
+sf.UpdatePipeline(0.2)
+T.check(E.get("SurgeFront", 0) == before, "SurgeFront table is not recomputed when the time changes (%d -> %d frames)"
+        % (before, E.get("SurgeFront", 0)))
 cols2, rows2 = V.surge_series(a, [0.1, 5.0])
 T.check(np.allclose(np.asarray(rows2), vals, atol=1e-12), "SurgeFront filter = varsph.surge_series")
 T.finish(tmp)
