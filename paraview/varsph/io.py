@@ -1,0 +1,185 @@
+"""Readers for a varsph run directory (RUN/NAME.pvd, RUN/frames/*.vtu, see docs/paraview.md)."""
+import glob
+import os
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+
+class Frame:
+    """One output frame as numpy arrays.
+
+    points (N, 3); arrays: point arrays by name; fields: field data (scalars as Python numbers,
+    the ``kernel`` string array as str); time: simulated time (field ``time``, else the pvd timestep).
+    """
+
+    def __init__(self, points, arrays, fields, time=None, path=None):
+        self.points = np.asarray(points, dtype=float).reshape(-1, 3)
+        self.arrays = arrays
+        self.fields = fields
+        self.time = float(fields["time"]) if "time" in fields else (float(time) if time is not None else 0.0)
+        self.path = path
+
+    def __len__(self):
+        return len(self.points)
+
+    @property
+    def dimension(self):
+        if "dimension" in self.fields:
+            return int(self.fields["dimension"])
+        return 2 if np.all(self.points[:, 2] == 0.0) else 3
+
+    @property
+    def dx(self):
+        if "dx" in self.fields:
+            return float(self.fields["dx"])
+        raise KeyError("field data lacks 'dx'")
+
+    def fluid_mask(self):
+        """Fluid particles (``kind`` == 0); all particles when ``kind`` is absent."""
+        kind = self.arrays.get("kind")
+        if kind is None:
+            return np.ones(len(self), dtype=bool)
+        return np.asarray(kind).reshape(-1) == 0
+
+    def volume(self):
+        """Particle volumes m/rho; dx^d where mass or density is missing or not positive."""
+        n = len(self)
+        default = self.dx ** self.dimension if "dx" in self.fields else 1.0
+        m = self.arrays.get("mass")
+        rho = self.arrays.get("density")
+        if m is None or rho is None:
+            return np.full(n, default)
+        m = np.asarray(m, dtype=float).reshape(-1)
+        rho = np.asarray(rho, dtype=float).reshape(-1)
+        ok = (rho > 0) & (m > 0)
+        v = np.full(n, default)
+        v[ok] = m[ok] / rho[ok]
+        return v
+
+
+def _field_value(arr):
+    """Python value of a vtk field-data array (first tuple; strings as str)."""
+    if arr is None:
+        return None
+    if arr.IsA("vtkStringArray"):
+        return arr.GetValue(0) if arr.GetNumberOfValues() else ""
+    if arr.GetNumberOfTuples() == 0:
+        return None
+    if arr.GetNumberOfComponents() == 1 and arr.GetNumberOfTuples() == 1:
+        v = arr.GetTuple1(0)
+        if arr.GetDataType() in (2, 3, 4, 5, 6, 7, 8, 9, 12, 15, 16, 17):  # VTK integer type ids
+            return int(v)
+        return float(v)
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    return vtk_to_numpy(arr).copy()
+
+
+def frame_from_vtk(dataset, time=None, path=None):
+    """Frame from a vtkDataSet (e.g. the ParaView pipeline input of a plugin filter)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    n = dataset.GetNumberOfPoints()
+    pts = dataset.GetPoints()
+    points = vtk_to_numpy(pts.GetData()).astype(float).copy() if (pts is not None and n) else np.zeros((0, 3))
+    arrays = {}
+    pd = dataset.GetPointData()
+    for i in range(pd.GetNumberOfArrays()):
+        a = pd.GetArray(i)
+        if a is None:
+            continue
+        arrays[a.GetName()] = vtk_to_numpy(a).copy()
+    fields = {}
+    fd = dataset.GetFieldData()
+    for i in range(fd.GetNumberOfArrays()):
+        a = fd.GetAbstractArray(i)
+        if a is not None and a.GetName():
+            fields[a.GetName()] = _field_value(a)
+    return Frame(points, arrays, fields, time=time, path=path)
+
+
+def read_vtu(path, time=None):
+    """Read one VTU frame written by the solver."""
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    if not os.path.isfile(path):
+        raise FileNotFoundError("frame file not found: %s" % path)
+    r = vtkXMLUnstructuredGridReader()
+    r.SetFileName(path)
+    r.Update()
+    return frame_from_vtk(r.GetOutput(), time=time, path=path)
+
+
+def read_pvd(path):
+    """[(timestep, absolute vtu path)] sorted by time, from a ParaView collection file."""
+    if not os.path.isfile(path):
+        raise FileNotFoundError("pvd file not found: %s" % path)
+    root = ET.parse(path).getroot()
+    base = os.path.dirname(os.path.abspath(path))
+    out = []
+    for ds in root.iter("DataSet"):
+        f = ds.get("file")
+        if f is None:
+            continue
+        out.append((float(ds.get("timestep", "0")), os.path.normpath(os.path.join(base, f))))
+    out.sort(key=lambda x: x[0])
+    return out
+
+
+def find_pvd(run):
+    """The run's .pvd: ``run`` itself if it is a .pvd file, else the single RUN/*.pvd (not deviation.pvd)."""
+    if os.path.isfile(run):
+        return run
+    cands = sorted(p for p in glob.glob(os.path.join(run, "*.pvd")) if os.path.basename(p) != "deviation.pvd")
+    if not cands:
+        raise FileNotFoundError("no .pvd time series in run directory %s" % run)
+    if len(cands) > 1:
+        name = os.path.basename(os.path.normpath(run)) + ".pvd"
+        for c in cands:
+            if os.path.basename(c) == name:
+                return c
+    return cands[0]
+
+
+def frames_of_run(run):
+    """[(time, vtu path)] of a run directory or .pvd file."""
+    return read_pvd(find_pvd(run))
+
+
+def read_run(run, times=None, tol=1e-9):
+    """Generator of Frames of a run (all, or those whose pvd time is within ``tol`` of one of ``times``)."""
+    for t, path in frames_of_run(run):
+        if times is not None and not any(abs(t - s) <= tol for s in times):
+            continue
+        yield read_vtu(path, time=t)
+
+
+def gravity_of_run(run):
+    """The gravity vector from RUN/run.json (the resolved scene), or None."""
+    import json
+    d = run if os.path.isdir(run) else os.path.dirname(run)
+    path = os.path.join(d, "run.json")
+    if not os.path.isfile(path):
+        return None
+    try:
+        with open(path) as f:
+            doc = json.load(f)
+    except (OSError, ValueError):
+        return None
+    stack = [doc]
+    while stack:
+        x = stack.pop()
+        if isinstance(x, dict):
+            g = x.get("gravity")
+            if isinstance(g, list) and len(g) in (2, 3) and all(isinstance(v, (int, float)) for v in g):
+                return [float(v) for v in g] + [0.0] * (3 - len(g))
+            stack.extend(x.values())
+        elif isinstance(x, list):
+            stack.extend(v for v in x if isinstance(v, (dict, list)))
+    return None
+
+
+def vertical_axis(run, dimension):
+    """Axis opposite to gravity (run.json), else y in 2D and z in 3D."""
+    g = gravity_of_run(run)
+    if g is not None and any(v != 0 for v in g[:dimension]):
+        return int(np.argmax(np.abs(g[:dimension])))
+    return 1 if dimension == 2 else 2

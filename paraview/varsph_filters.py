@@ -1,0 +1,386 @@
+"""ParaView plugin: varsph SPH post-processing filters.
+
+Load in the GUI with Tools > Manage Plugins > Load New... > paraview/varsph_filters.py (tick "Auto Load"
+to keep it), or in pvpython with ``LoadPlugin('/path/to/paraview/varsph_filters.py', ns=globals())``.
+The filters then appear under Filters > Alphabetical (and the "varsph" category):
+
+  varsph Free Surface          port 0: the input + free_surface (0/1), fs_lambda, fs_normal
+                               port 1: the reconstructed surface (colour field contour), optional
+  varsph Pressure Probe        table over time of a point array (pressure) SPH-interpolated at points
+  varsph Deviation             per-particle deviation (vector, magnitude) between two runs at the current time
+  varsph Deviation Over Time   table time,D_max,D_mean,D_rms over all matched times (as varsph compare)
+  varsph Surge Front           table time,front_x,front_rel,height_x<g>... over time
+
+The logic lives in the ``varsph`` package next to this file (paraview/varsph/); see docs/paraview.md.
+"""
+import os
+import sys
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
+if _HERE not in sys.path:
+    sys.path.insert(0, _HERE)
+
+from varsph.compat import patch_inspect  # noqa: E402
+
+patch_inspect()  # Python 3.11 + ParaView 5.11: paraview.util.vtkAlgorithm needs inspect.getargspec
+
+import numpy as np  # noqa: E402
+from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
+from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkDoubleArray  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkDataSet, vtkPolyData, vtkTable  # noqa: E402
+from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as _SDDP  # noqa: E402
+
+from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
+
+import varsph  # noqa: E402
+from varsph import deviation as _dev  # noqa: E402
+from varsph import surge as _surge  # noqa: E402
+
+_CATEGORY = '<ShowInMenu category="varsph" />'
+EXECUTIONS = {}   # RequestData calls per filter class (frames processed), for tests and diagnostics
+
+
+def _add_point_array(ds, name, values):
+    a = numpy_to_vtk(np.ascontiguousarray(values), deep=1)
+    a.SetName(name)
+    ds.GetPointData().AddArray(a)
+
+
+def _fill_table(table, columns, rows):
+    rows = np.asarray(rows, dtype=float).reshape(len(rows), len(columns))
+    for k, c in enumerate(columns):
+        a = vtkDoubleArray()
+        a.SetName(c)
+        a.SetNumberOfTuples(len(rows))
+        for r in range(len(rows)):
+            a.SetValue(r, rows[r, k])
+        table.AddColumn(a)
+
+
+def _input_frame(inInfo, port=0, time=None):
+    ds = vtkDataSet.GetData(inInfo[port])
+    if ds is None:
+        raise RuntimeError("input %d is not a single dataset (use the run's .pvd reader output)" % port)
+    t = ds.GetInformation().Get(vtkDataObject.DATA_TIME_STEP())
+    return varsph.frame_from_vtk(ds, time=t if t is not None else time), ds
+
+
+class _OverTime(VTKPythonAlgorithmBase):
+    """Runs ``frame_rows`` on every time step of input 0 (the CONTINUE_EXECUTING loop) and emits a table."""
+
+    def __init__(self, nInputPorts=1):
+        VTKPythonAlgorithmBase.__init__(self, nInputPorts=nInputPorts, nOutputPorts=1, outputType="vtkTable")
+        self._times = None
+        self._k = 0
+        self._rows = []
+
+    def FillInputPortInformation(self, port, info):
+        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet")
+        return 1
+
+    def RequestInformation(self, request, inInfo, outInfo):
+        info = inInfo[0].GetInformationObject(0)
+        self._times = list(info.Get(_SDDP.TIME_STEPS())) if info.Has(_SDDP.TIME_STEPS()) else None
+        oi = outInfo.GetInformationObject(0)
+        oi.Remove(_SDDP.TIME_STEPS())
+        oi.Remove(_SDDP.TIME_RANGE())
+        return 1
+
+    def RequestUpdateExtent(self, request, inInfo, outInfo):
+        if self._times:
+            t = self._times[min(self._k, len(self._times) - 1)]
+            for port in range(self.GetNumberOfInputPorts()):
+                inInfo[port].GetInformationObject(0).Set(_SDDP.UPDATE_TIME_STEP(), t)
+        return 1
+
+    def RequestData(self, request, inInfo, outInfo):
+        EXECUTIONS[type(self).__name__] = EXECUTIONS.get(type(self).__name__, 0) + 1
+        if self._k == 0:
+            self._rows = []
+        t = self._times[self._k] if self._times else None
+        row = self.frame_row(inInfo, t)
+        if row is not None:
+            self._rows.append(row)
+        self._k += 1
+        if self._times and self._k < len(self._times):
+            request.Set(_SDDP.CONTINUE_EXECUTING(), 1)
+            return 1
+        request.Remove(_SDDP.CONTINUE_EXECUTING())
+        self._k = 0
+        _fill_table(vtkTable.GetData(outInfo), self.columns(), self._rows)
+        return 1
+
+
+# --------------------------------------------------------------------------------------------------
+@smproxy.filter(name="varsphFreeSurface", label="varsph Free Surface")
+@smhint.xml(_CATEGORY)
+@smhint.xml('<OutputPort name="Particles" index="0" /><OutputPort name="Surface" index="1" />')
+@smproperty.input(name="Input", port_index=0)
+@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+class FreeSurface(VTKPythonAlgorithmBase):
+    """Free-surface particles by Marrone et al. (2010), J. Comput. Phys. 229:3652, and optionally the
+    surface reconstructed as the 0.5 contour of the SPH colour field sampled on an image grid."""
+
+    def __init__(self):
+        VTKPythonAlgorithmBase.__init__(self, nInputPorts=1, nOutputPorts=2)
+        self._include_boundary = True
+        self._lambda_surface = 0.2
+        self._lambda_interior = 0.75
+        self._reconstruct = False
+        self._spacing_factor = 0.5
+        self._iso = 0.5
+
+    def FillOutputPortInformation(self, port, info):
+        info.Set(vtkDataObject.DATA_TYPE_NAME(), "vtkUnstructuredGrid" if port == 0 else "vtkPolyData")
+        return 1
+
+    def RequestDataObject(self, request, inInfo, outInfo):
+        inp = vtkDataObject.GetData(inInfo[0])
+        if inp is not None:
+            out0 = vtkDataObject.GetData(outInfo, 0)
+            if out0 is None or out0.GetClassName() != inp.GetClassName():
+                out0 = inp.NewInstance()
+                outInfo.GetInformationObject(0).Set(vtkDataObject.DATA_OBJECT(), out0)
+        out1 = vtkDataObject.GetData(outInfo, 1)
+        if out1 is None:
+            outInfo.GetInformationObject(1).Set(vtkDataObject.DATA_OBJECT(), vtkPolyData())
+        return 1
+
+    @smproperty.intvector(name="IncludeBoundary", label="Include Boundary", default_values=1)
+    @smdomain.xml('<BooleanDomain name="bool"/>')
+    def SetIncludeBoundary(self, v):
+        self._include_boundary = bool(v)
+        self.Modified()
+
+    @smproperty.doublevector(name="LambdaSurface", label="Lambda Surface", default_values=0.2)
+    def SetLambdaSurface(self, v):
+        self._lambda_surface = float(v)
+        self.Modified()
+
+    @smproperty.doublevector(name="LambdaInterior", label="Lambda Interior", default_values=0.75)
+    def SetLambdaInterior(self, v):
+        self._lambda_interior = float(v)
+        self.Modified()
+
+    @smproperty.intvector(name="ReconstructSurface", label="Reconstruct Surface", default_values=0)
+    @smdomain.xml('<BooleanDomain name="bool"/>')
+    def SetReconstructSurface(self, v):
+        self._reconstruct = bool(v)
+        self.Modified()
+
+    @smproperty.doublevector(name="GridSpacing", label="Grid Spacing", default_values=0.5)
+    def SetGridSpacing(self, v):
+        self._spacing_factor = float(v)
+        self.Modified()
+
+    @smproperty.doublevector(name="IsoValue", label="Iso Value", default_values=0.5)
+    def SetIsoValue(self, v):
+        self._iso = float(v)
+        self.Modified()
+
+    def RequestData(self, request, inInfo, outInfo):
+        frame, ds = _input_frame(inInfo)
+        out = vtkDataSet.GetData(outInfo, 0)
+        out.ShallowCopy(ds)
+        flag, det = varsph.free_surface(frame, include_boundary=self._include_boundary,
+                                        lambda_surface=self._lambda_surface,
+                                        lambda_interior=self._lambda_interior, return_details=True)
+        _add_point_array(out, "free_surface", flag.astype(np.int32))
+        _add_point_array(out, "fs_lambda", det["lambda_"])
+        _add_point_array(out, "fs_normal", det["normal"])
+        surf = vtkPolyData.GetData(outInfo, 1)
+        if self._reconstruct:
+            surf.ShallowCopy(varsph.surface_mesh(frame, spacing=self._spacing_factor * frame.dx, iso=self._iso))
+        else:
+            surf.Initialize()
+        return 1
+
+
+# --------------------------------------------------------------------------------------------------
+@smproxy.filter(name="varsphPressureProbe", label="varsph Pressure Probe")
+@smhint.xml(_CATEGORY)
+@smproperty.input(name="Input", port_index=0)
+@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+class PressureProbe(_OverTime):
+    """Shepard-normalised SPH interpolation of a point array (fluid particles) at user points, over time."""
+
+    def __init__(self):
+        _OverTime.__init__(self)
+        self._points = []
+        self._array = "pressure"
+
+    @smproperty.doublevector(name="ProbePoints", label="Probe Points", default_values=[0.0, 0.0, 0.0],
+                             number_of_elements_per_command=3, repeat_command=1, use_index=0,
+                             clean_command="ClearProbePoints")
+    def AddProbePoint(self, x, y, z):
+        self._points.append((float(x), float(y), float(z)))
+        self.Modified()
+
+    def ClearProbePoints(self):
+        self._points = []
+        self.Modified()
+
+    @smproperty.stringvector(name="ArrayName", label="Array Name", default_values="pressure")
+    def SetArrayName(self, name):
+        self._array = str(name)
+        self.Modified()
+
+    def columns(self):
+        return ["time"] + ["%s_%d" % (self._array, k) for k in range(len(self._points))]
+
+    def frame_row(self, inInfo, t):
+        frame, _ = _input_frame(inInfo, 0, t)
+        vals, _ = varsph.probe_pressure(frame, np.asarray(self._points).reshape(-1, 3), array=self._array) \
+            if self._points else (np.zeros(0), None)
+        return [frame.time] + list(vals)
+
+
+# --------------------------------------------------------------------------------------------------
+@smproxy.filter(name="varsphDeviation", label="varsph Deviation")
+@smhint.xml(_CATEGORY)
+@smproperty.input(name="Reference", port_index=1)
+@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+@smproperty.input(name="Input", port_index=0)
+@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+class Deviation(VTKPythonAlgorithmBase):
+    """Run A's particles with ``deviation`` = q_A - q_B (matched by id) and ``deviation_magnitude``;
+    field data D_max, D_mean, D_rms over the fluid particles (paper eq. 70) at the current time."""
+
+    def __init__(self):
+        VTKPythonAlgorithmBase.__init__(self, nInputPorts=2, nOutputPorts=1, outputType="vtkUnstructuredGrid")
+
+    def FillInputPortInformation(self, port, info):
+        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet")
+        return 1
+
+    def RequestUpdateExtent(self, request, inInfo, outInfo):
+        # B is asked for A's time so that both frames match
+        oi = outInfo.GetInformationObject(0)
+        if oi.Has(_SDDP.UPDATE_TIME_STEP()):
+            t = oi.Get(_SDDP.UPDATE_TIME_STEP())
+            for port in (0, 1):
+                inInfo[port].GetInformationObject(0).Set(_SDDP.UPDATE_TIME_STEP(), t)
+        return 1
+
+    def RequestData(self, request, inInfo, outInfo):
+        A, ds_a = _input_frame(inInfo, 0)
+        B, _ = _input_frame(inInfo, 1)
+        out = vtkDataSet.GetData(outInfo)
+        out.ShallowCopy(ds_a)
+        r = varsph.deviation_frame(A, B)
+        if abs(A.time - B.time) > _dev.TIME_TOLERANCE:
+            print("varsph Deviation: frame times differ (A %.12g, B %.12g); run B has no frame at A's time"
+                  % (A.time, B.time))
+        _add_point_array(out, "deviation", r["vector"])
+        _add_point_array(out, "deviation_magnitude", r["magnitude"])
+        fd = out.GetFieldData()
+        for k in ("D_max", "D_mean", "D_rms"):
+            a = vtkDoubleArray()
+            a.SetName(k)
+            a.InsertNextValue(r[k])
+            fd.AddArray(a)
+        return 1
+
+
+@smproxy.filter(name="varsphDeviationOverTime", label="varsph Deviation Over Time")
+@smhint.xml(_CATEGORY)
+@smproperty.input(name="Reference", port_index=1)
+@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+@smproperty.input(name="Input", port_index=0)
+@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+class DeviationOverTime(_OverTime):
+    """Table time,D_max,D_mean,D_rms over the times of run A that run B also has (within 1e-9 s)."""
+
+    def __init__(self):
+        _OverTime.__init__(self, nInputPorts=2)
+
+    def RequestInformation(self, request, inInfo, outInfo):
+        _OverTime.RequestInformation(self, request, inInfo, outInfo)
+        ib = inInfo[1].GetInformationObject(0)
+        tb = list(ib.Get(_SDDP.TIME_STEPS())) if ib.Has(_SDDP.TIME_STEPS()) else None
+        if self._times and tb is not None:
+            self._times = [self._times[ka] for ka, _ in _dev.match_times(self._times, tb)]
+        return 1
+
+    def columns(self):
+        return list(_dev.DEVIATION_COLUMNS)
+
+    def frame_row(self, inInfo, t):
+        A, _ = _input_frame(inInfo, 0, t)
+        B, _ = _input_frame(inInfo, 1, t)
+        if abs(A.time - B.time) > _dev.TIME_TOLERANCE:
+            return None
+        r = varsph.deviation_frame(A, B)
+        return [A.time, r["D_max"], r["D_mean"], r["D_rms"]]
+
+
+# --------------------------------------------------------------------------------------------------
+@smproxy.filter(name="varsphSurgeFront", label="varsph Surge Front")
+@smhint.xml(_CATEGORY)
+@smproperty.input(name="Input", port_index=0)
+@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+class SurgeFront(_OverTime):
+    """Largest fluid coordinate along Axis (the dam-break front), relative to a reference, and water
+    heights at gauge positions, over time."""
+
+    def __init__(self):
+        _OverTime.__init__(self)
+        self._gauges = []
+        self._axis = 0
+        self._vertical = -1
+        self._reference = 0.0
+        self._use_reference = False
+
+    @smproperty.doublevector(name="Gauges", label="Gauges", default_values=[],
+                             number_of_elements=0, number_of_elements_per_command=1, repeat_command=1,
+                             use_index=0, clean_command="ClearGauges")
+    def AddGauge(self, x):
+        self._gauges.append(float(x))
+        self.Modified()
+
+    def ClearGauges(self):
+        self._gauges = []
+        self.Modified()
+
+    @smproperty.intvector(name="Axis", label="Axis", default_values=0)
+    @smdomain.intrange(min=0, max=2)
+    def SetAxis(self, v):
+        self._axis = int(v)
+        self.Modified()
+
+    @smproperty.intvector(name="VerticalAxis", label="Vertical Axis", default_values=-1)
+    @smdomain.intrange(min=-1, max=2)
+    def SetVerticalAxis(self, v):
+        self._vertical = int(v)
+        self.Modified()
+
+    @smproperty.intvector(name="UseReference", label="Use Reference", default_values=0)
+    @smdomain.xml('<BooleanDomain name="bool"/>')
+    def SetUseReference(self, v):
+        self._use_reference = bool(v)
+        self.Modified()
+
+    @smproperty.doublevector(name="Reference", label="Reference", default_values=0.0)
+    def SetReference(self, v):
+        self._reference = float(v)
+        self.Modified()
+
+    def columns(self):
+        return ["time", "front_x", "front_rel"] + ["height_x%g" % g for g in self._gauges]
+
+    def frame_row(self, inInfo, t):
+        fr, _ = _input_frame(inInfo, 0, t)
+        if self._k == 0:
+            fl = fr.fluid_mask()
+            vert = _surge.default_vertical(fr.dimension) if self._vertical < 0 else self._vertical
+            dx = fr.dx if "dx" in fr.fields else 0.0
+            self._state = dict(
+                vert=vert,
+                ref=self._reference if self._use_reference else _surge.surge_front(fr, self._axis),
+                bottom=float(fr.points[fl, vert].min() - 0.5 * dx) if fl.any() else 0.0)
+        s = self._state
+        front = _surge.surge_front(fr, self._axis)
+        hs = list(_surge.water_height(fr, self._gauges, self._axis, s["vert"], None, s["bottom"])) \
+            if self._gauges else []
+        return [fr.time, front, front - s["ref"]] + hs
