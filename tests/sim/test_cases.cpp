@@ -74,7 +74,7 @@ TEST(Cases, MeshBodyErrorsAreInputErrorsNamingTheBodyAndFile) {
   EXPECT_NE(r.output.find("no_such_tank.poly2d"), std::string::npos) << r.output;
   // a fluid body entirely inside a boundary block: every fluid particle is removed -> exit 2
   auto k = nlohmann::json::parse(test::read_text(test::source_dir() / "pipelines" / "hydrostatic_2d.json"));
-  k["bodies"][1] = {{"kind", "boundary"}, {"shape", "box"}, {"min", {-0.01, -0.01}}, {"max", {0.45, 0.35}}, {"layers", 16}};
+  k["bodies"][1] = {{"kind", "boundary"}, {"shape", "box"}, {"min", {-0.01, -0.01}}, {"max", {0.41, 0.31}}, {"layers", 16}};
   std::ofstream(dir / "overlap.json") << k.dump();
   r = test::run_command(test::varsph_exe().string() + " sample " + (dir / "overlap.json").string() + " -o " +
                         (dir / "out2").string());
