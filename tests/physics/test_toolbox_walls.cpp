@@ -62,23 +62,24 @@ double impact_min_height(const std::string& model) {
             {"integrator", {{"type", "verlet"}, {"cfl", 0.2}}},
             {"time", {{"end", 0.05}}}};
   Simulation<2> sim(parse(j));
-  double ymin = 1e9, xlo = 1e9, xhi = -1e9;
+  double ymin = 1e9, dmin = 1e9;  // lowest height; smallest distance to any wall surface (x = 0, 0.4; y = 0)
   while (sim.time() < 0.05) {
     sim.advance();
     const auto& f = sim.fields();
     for (std::size_t i = 0; i < sim.size(); ++i) {
       if (f.kind[i] != 0) continue;
-      ymin = std::min(ymin, double(f.x[i][1]));
-      xlo = std::min(xlo, double(f.x[i][0]));
-      xhi = std::max(xhi, double(f.x[i][0]));
+      const double x = f.x[i][0], y = f.x[i][1];
+      ymin = std::min(ymin, y);
+      dmin = std::min({dmin, y, x, 0.4 - x});
     }
     if (!std::isfinite(ymin)) break;
   }
-  std::printf("[%s] 5 m/s impact: lowest fluid particle %.3f dx above the wall surface (x in [%.3f, %.3f])\n",
-              model.c_str(), ymin / dx, xlo, xhi);
-  EXPECT_GT(xlo, 0.0);
-  EXPECT_LT(xhi, 0.4);
-  return ymin / dx;
+  std::printf("[%s] 5 m/s impact: lowest fluid particle %.3f dx above the bottom wall surface; closest approach "
+              "to any wall surface (side walls hit by the splash) %.3f dx\n",
+              model.c_str(), ymin / dx, dmin / dx);
+  EXPECT_GT(ymin, 0.0) << model << ": a fluid particle crossed the bottom wall";
+  EXPECT_GT(dmin, 0.0) << model << ": a fluid particle crossed a side wall";
+  return dmin / dx;
 }
 
 }  // namespace
@@ -105,6 +106,8 @@ TEST(WallModels, DynamicAndRepulsiveTanksHoldTheFluid) {
 }
 
 TEST(WallModels, NoPenetrationAtFiveMetresPerSecond) {
-  for (const char* m : {"repulsive", "dynamic", "dummy_adami", "soft_repulsive"})
-    EXPECT_GT(impact_min_height(m), 0.0) << m << ": a fluid particle crossed the wall surface";
+  for (const char* m : {"repulsive", "dynamic"}) impact_min_height(m);
+  // dummy particles alone let the splash sheet graze the side walls; the soft repulsive force keeps it off
+  const double dummy = impact_min_height("dummy_adami"), soft = impact_min_height("soft_repulsive");
+  EXPECT_GT(soft, 2 * dummy) << "the soft repulsive force must keep the fluid further from the walls";
 }
