@@ -110,6 +110,32 @@ TEST(LaminarViscosity, FreeSlipWallsGiveAPlugFlow) {
   EXPECT_GT(u_wall_row, 0.8 * 8 * 0.2);
 }
 
+TEST(LaminarViscosity, CouetteStartUpWithAMovingWallMatchesTheSeriesSolution) {
+  // wall velocity is an input: the upper wall's particles carry v = (V, 0) (a prescribed tangential motion of a
+  // periodic wall; they are not moved), no body force. Series of analytic_references.md, V = 1, L = 1, nu = 1.
+  json j = poiseuille_scene("no_slip");
+  j["physics"]["body_force"] = {0.0, 0.0};
+  Simulation<2> sim(parse(j));
+  auto& f = sim.fields();
+  for (std::size_t i = 0; i < sim.size(); ++i)
+    if (f.kind[i] == 1 && f.x[i][1] > 0.5) f.v[i] = Vec<2>(1, 0);
+  sim.update_pressure();  // re-extrapolates the dummy-wall velocities with the new wall velocity
+  const auto couette = [](double y, double t) {
+    double u = y;
+    for (int n = 1; n < 60; ++n)
+      u += 2 / (n * std::numbers::pi) * (n % 2 ? -1 : 1) * std::sin(n * std::numbers::pi * y) *
+           std::exp(-n * n * std::numbers::pi * std::numbers::pi * t);
+    return u;
+  };
+  for (double t : {0.05, 0.1, 0.5}) {
+    run_until(sim, t);
+    double err = 0;
+    for (auto [y, u] : rows(sim, 0.05)) err = std::max(err, std::abs(u - couette(y, sim.time())));
+    std::printf("Couette t = %.3f: max |u - u_series| = %.4f m/s (%.2f %% of V)\n", sim.time(), err, 100 * err);
+    EXPECT_LT(err, 0.03) << "t = " << t;
+  }
+}
+
 TEST(Damping, KineticEnergyDecaysAsExpMinus2MuTThenStops) {
   // uniform translation of a periodic lattice: the pair forces vanish, so v ~ exp(-mu t), KE ~ exp(-2 mu t)
   json j = periodic_box(16, 0.05, 10, 1.0);
