@@ -78,7 +78,7 @@ Simulation<D>::Simulation(const scene::Scene& scene)
   }
   if (params_.boundary == physics::BoundaryModel::DummyAdami ||
       params_.boundary == physics::BoundaryModel::SoftRepulsive)
-    wall_v_ = &store_.add<Vec<D>>("wall_velocity", {.exported = true, .checkpointed = false});
+    wall_v_ = &store_.add<Vec<D>>("wall_velocity", {.exported = true});  // checkpointed: restarts stay bitwise
   if (rates_->xsph_enabled())
     xsph_ = &store_.add<Vec<D>>("xsph_velocity", {.exported = true, .checkpointed = false});
   n_fluid_ = init.count(0);
