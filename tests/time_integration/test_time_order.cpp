@@ -21,37 +21,47 @@ constexpr int kSide = 8;
 constexpr double kDx = 0.01, kL = kSide * kDx, kC0 = 1.0;
 constexpr double kT = 0.05;  // a few oscillation periods of the particle-scale modes (~2 dx / c0)
 
+template <int D>
 json order_scene(const std::string& density) {
   std::mt19937 gen(12345);
   std::uniform_real_distribution<double> u(-1, 1);
   json pts = json::array(), vel = json::array();
-  for (int i = 0; i < kSide; ++i)
-    for (int j = 0; j < kSide; ++j) {
-      pts.push_back({(i + 0.5) * kDx + 0.1 * kDx * u(gen), (j + 0.5) * kDx + 0.1 * kDx * u(gen)});
-      vel.push_back({0.1 * kC0 * u(gen), 0.1 * kC0 * u(gen)});
+  const int total = D == 2 ? kSide * kSide : kSide * kSide * kSide;
+  for (int k = 0; k < total; ++k) {
+    json p = json::array(), v = json::array();
+    for (int a = 0, t = k; a < D; ++a, t /= kSide) {
+      p.push_back((t % kSide + 0.5) * kDx + 0.1 * kDx * u(gen));
+      v.push_back(0.1 * kC0 * u(gen));
     }
+    pts.push_back(p);
+    vel.push_back(v);
+  }
+  const std::vector<double> lo(D, 0.0), hi(D, kL);
   return {{"name", "order"},
-          {"dimension", 2},
-          {"domain", {{"min", {0.0, 0.0}}, {"max", {kL, kL}}, {"periodic", {true, true}}}},
+          {"dimension", D},
+          {"domain", {{"min", lo}, {"max", hi}, {"periodic", std::vector<bool>(D, true)}}},
           {"particles", {{"spacing", kDx}}},
           {"kernel", {{"type", "wendland_c2"}, {"h_over_dx", 1.2}}},
           {"fluid", {{"rho0", 1000.0}, {"c0", kC0}}},
-          {"gravity", {0.0, 0.0}},
+          {"gravity", std::vector<double>(D, 0.0)},
           {"bodies", {{{"kind", "fluid"}, {"shape", "points"}, {"points", pts}, {"velocities", vel}}}},
           {"physics", {{"density", density}}},
           {"integrator", {{"type", "verlet"}, {"dt", 1e-3}}},
           {"time", {{"end", kT}}}};
 }
 
-using Positions = std::map<std::int64_t, Vec<2>>;
+template <int D>
+using PositionsD = std::map<std::int64_t, Vec<D>>;
+using Positions = PositionsD<2>;
 
-Positions run(const std::string& type, int steps, const std::string& density, double drift = 0,
-              Vec<2>* momentum_change = nullptr) {
-  json j = order_scene(density);
+template <int D = 2>
+PositionsD<D> run(const std::string& type, int steps, const std::string& density, double drift = 0,
+                  Vec<D>* momentum_change = nullptr) {
+  json j = order_scene<D>(density);
   for (auto& v : j["bodies"][0]["velocities"]) v[0] = v[0].get<double>() + drift;
   const double dt = kT / steps;
   j["integrator"] = {{"type", type}, {"dt", dt}};
-  Simulation<2> sim(scene::parse_scene_json(j, "order.json"));
+  Simulation<D> sim(scene::parse_scene_json(j, "order.json"));
   auto& f = sim.fields();
   if (type == "verlet") {
     // The same (x0, v0) for every scheme: Verlet's velocity is v_{-1/2} = v0 - dt/2 a(x0)
@@ -60,24 +70,25 @@ Positions run(const std::string& type, int steps, const std::string& density, do
     for (std::size_t i = 0; i < sim.size(); ++i) f.v[i] -= Real(0.5 * dt) * f.a[i];
   }
   const auto momentum = [&] {
-    Vec<2> P = Vec<2>::Zero();
+    Vec<D> P = Vec<D>::Zero();
     for (std::size_t i = 0; i < sim.size(); ++i) P += f.mass[i] * f.v[i];
     return P;
   };
-  const Vec<2> P0 = momentum();
+  const Vec<D> P0 = momentum();
   for (int k = 0; k < steps; ++k) sim.advance();
   if (momentum_change) *momentum_change = momentum() - P0;
   EXPECT_NEAR(sim.time(), kT, 1e-12);
-  Positions out;
+  PositionsD<D> out;
   for (std::size_t i = 0; i < sim.size(); ++i) out[f.id[i]] = f.x[i];
   return out;
 }
 
-double max_distance(const Positions& a, const Positions& b) {
+template <int D>
+double max_distance(const PositionsD<D>& a, const PositionsD<D>& b) {
   double e = 0;
   for (const auto& [id, xa] : a) {
-    Vec<2> d = xa - b.at(id);
-    for (int k = 0; k < 2; ++k) d[k] -= kL * std::round(d[k] / kL);  // minimum image
+    Vec<D> d = xa - b.at(id);
+    for (int k = 0; k < D; ++k) d[k] -= kL * std::round(d[k] / kL);  // minimum image
     e = std::max(e, double(d.norm()));
   }
   return e;
@@ -139,21 +150,30 @@ TEST(TimeOrder, ContinuityDensityOrdersOfTheStateIntegrators) {
   observed_orders({"verlet", 0, {80, 160, 320, 640}}, "continuity", ref);
 }
 
-TEST(TimeOrder, StageArraysFollowSortingAndPeriodicWrapping) {
+template <int D>
+void check_drift(int steps) {
   // A uniform drift of 2 m/s carries every particle across cells and through the periodic box
-  // (1.25 box lengths over T) while the stages are in flight; the relative motion must be the same
-  // as without drift (Galilean invariance, no viscosity) up to round-off, and momentum is conserved.
+  // while the stages are in flight; the relative motion must be the same as without drift (Galilean
+  // invariance, no viscosity) up to round-off, and momentum is conserved.
   const double U = 2.0;
   for (const char* type : {"symplectic_euler", "predictor_corrector", "rk4"})
     for (const char* density : {"summation", "continuity"}) {
-      Vec<2> dP;
-      const Positions still = run(type, 80, density);
-      Positions moving = run(type, 80, density, U, &dP);
+      Vec<D> dP;
+      const PositionsD<D> still = run<D>(type, steps, density);
+      PositionsD<D> moving = run<D>(type, steps, density, U, &dP);
       for (auto& [id, x] : moving) x[0] -= Real(U * kT);
-      const double e = max_distance(moving, still);
-      std::printf("[drift] %s %s: max |x - U T - x_still| = %.1e m, |dP| = %.1e kg m/s\n", type, density, e,
+      const double e = max_distance<D>(moving, still);
+      std::printf("[drift %dD] %s %s: max |x - U T - x_still| = %.1e m, |dP| = %.1e kg m/s\n", D, type, density, e,
                   double(dP.norm()));
       EXPECT_LT(e, 1e-11) << type << " " << density;
-      EXPECT_LT(dP.norm(), 1e-12) << type << " " << density;  // total momentum ~ 64 x 0.1 kg x 2 m/s
+      EXPECT_LT(dP.norm(), 1e-12 * (D == 3 ? 10 : 1)) << type << " " << density;
     }
+}
+
+TEST(TimeOrder, StageArraysFollowSortingAndPeriodicWrapping3D) {
+  check_drift<3>(20);  // 512 particles, 1.25 box lengths of drift
+}
+
+TEST(TimeOrder, StageArraysFollowSortingAndPeriodicWrapping) {
+  check_drift<2>(80);  // 1.25 box lengths of drift over T
 }
