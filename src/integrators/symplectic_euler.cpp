@@ -1,23 +1,27 @@
 #include "integrators/symplectic_euler.hpp"
 
-#include "integrators/explicit_stages.hpp"
+#include "physics/pair_loop.hpp"
 
 namespace varsph {
 
 template <int D>
 StepReport SymplecticEulerIntegrator<D>::step(Simulation<D>& sim) {
-  integrators::evaluate_rates(sim);  // a_n, drho_n at (x_n, v_n, rho_n)
+  auto& f = sim.fields();
+  // a_n at (x_n, v_n, rho_n); p_n is current (constructor, previous step or density re-initialisation)
+  sim.rates().acceleration(sim.grid(), sim.current_view(), f.a.data.data());
   sim.set_dt(sim.choose_dt());
   const Real dt = Real(sim.dt());
-  auto& f = sim.fields();
-  const bool continuity = !integrators::summation_mode(sim);
+  Vec<D>* x = f.x.data.data();
+  Vec<D>* v = f.v.data.data();
+  const Vec<D>* a = f.a.data.data();
+  const std::int32_t* kind = f.kind.data.data();
   for_each_particle(sim.size(), [&](std::size_t i) {
-    if (continuity && integrators::density_integrated(sim, i)) f.rho[i] += dt * f.drho[i];
-    if (f.kind[i] != 0) return;
-    f.v[i] += dt * f.a[i];  // v_{n+1} = v_n + dt a_n
-    f.x[i] += dt * f.v[i];  // x_{n+1} = x_n + dt v_{n+1}
+    if (kind[i] != 0) return;
+    v[i] += dt * a[i];  // v_{n+1} = v_n + dt a_n
+    x[i] += dt * v[i];  // x_{n+1} = x_n + dt v_{n+1}
   });
-  integrators::finish_step(sim);
+  sim.sort_and_bin();
+  sim.update_density_after_move(dt);  // rho_{n+1} from (x_{n+1}, v_{n+1}), then p_{n+1}
   return {};
 }
 

@@ -142,7 +142,9 @@ TEST(TimeOrder, SummationDensityOrdersAre1224) {
 }
 
 TEST(TimeOrder, ContinuityDensityOrdersOfTheStateIntegrators) {
-  // (x, v, rho) integrated together; Verlet is reported, not asserted (see docs/integrators.md)
+  // (x, v, rho) integrated together; Verlet is reported, not asserted (see docs/integrators.md). Here
+  // rho(0) = rho0, so p(0) = 0 and a(0) = 0: Verlet's start is exact and its run equals symplectic Euler's;
+  // its first order comes from the density update at (q_{k+1}, v_{k+1/2}).
   check_orders("continuity", {{"symplectic_euler", 1, {80, 160, 320, 640}},
                               {"predictor_corrector", 2, {80, 160, 320, 640}},
                               {"rk4", 4, {40, 80, 160}}});
