@@ -7,7 +7,10 @@ namespace varsph {
 int command_run(const CommandArgs& a) {
   const scene::Scene s = scene::parse_scene(a.scene, a.overrides);
   RunOptions o;
-  o.output_dir = a.output.empty() ? std::filesystem::path("runs") / s.name : std::filesystem::path(a.output);
+  if (!a.output.empty()) o.output_dir = a.output;
+  else if (!a.restart.empty())  // DIR/checkpoints/step_N.h5 -> DIR: continue in the run's own directory
+    o.output_dir = std::filesystem::absolute(a.restart).parent_path().parent_path();
+  else o.output_dir = std::filesystem::path("runs") / s.name;
   o.overwrite = a.overwrite;
   o.quiet = a.quiet;
   o.threads = a.threads;

@@ -83,11 +83,14 @@ class Field final : public FieldBase {
   const void* raw() const override { return data.data(); }
   void* raw() override { return data.data(); }
   void permute(std::span<const std::uint32_t> perm, std::vector<std::byte>& scratch) override {
-    const std::size_t n = data.size();
-    scratch.resize(n * sizeof(T));
+    const long n = long(data.size());
+    scratch.resize(std::size_t(n) * sizeof(T));  // grows once, then reused: no allocation per step
     T* tmp = reinterpret_cast<T*>(scratch.data());
-    for (std::size_t k = 0; k < n; ++k) tmp[k] = data[perm[k]];
-    std::memcpy(static_cast<void*>(data.data()), tmp, n * sizeof(T));
+    T* d = data.data();
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) tmp[k] = d[perm[std::size_t(k)]];
+#pragma omp parallel for schedule(static)
+    for (long k = 0; k < n; ++k) d[k] = tmp[k];
   }
   T& operator[](std::size_t i) { return data[i]; }
   const T& operator[](std::size_t i) const { return data[i]; }

@@ -30,11 +30,16 @@ CflLimits cfl_limits(const Simulation<D>& sim) {
   const auto& s = sim.scene();
   const auto& f = sim.fields();
   CflLimits L;
-  for (std::size_t i = 0; i < sim.size(); ++i) {
+  double vmax = 0, amax = 0;
+  const long n = long(sim.size());
+#pragma omp parallel for schedule(static) reduction(max : vmax, amax)
+  for (long i = 0; i < n; ++i) {
     if (f.kind[i] != 0) continue;
-    L.v_max = std::max(L.v_max, double(f.v[i].norm()));
-    L.a_max = std::max(L.a_max, double(f.a[i].norm()));
+    vmax = std::max(vmax, double(f.v[i].norm()));
+    amax = std::max(amax, double(f.a[i].norm()));
   }
+  L.v_max = vmax;
+  L.a_max = amax;
   const double h = s.h;
   L.acoustic = s.cfl_acoustic * h / (s.c0 + L.v_max);                // Monaghan 1992
   if (L.a_max > 0) L.force = s.cfl_force * std::sqrt(h / L.a_max);   // Monaghan 1992

@@ -1,6 +1,7 @@
 #include <vtkCellArray.h>
 #include <vtkCellType.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
 #include <vtkIdTypeArray.h>
@@ -113,7 +114,10 @@ void write_vtu(const std::string& path, const FrameData& frame) {
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();
     writer->SetCompressorTypeToNone();
-    if (writer->Write() != 1) throw IoError(path + ": VTK could not write the frame (disk full or not writable?)");
+    // Write() can return 1 after a failed stream write (disk full): the error code tells
+    if (writer->Write() != 1 || writer->GetErrorCode() != vtkErrorCode::NoError)
+      throw IoError(path + ": VTK could not write the frame (VTK error code " +
+                    std::to_string(writer->GetErrorCode()) + "; disk full or not writable?)");
   });
 }
 

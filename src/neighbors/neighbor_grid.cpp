@@ -13,6 +13,7 @@ template <int D>
 void NeighborGrid<D>::configure(const Options& opt) {
   opt_ = opt;
   if (!(opt.cell_size > 0)) throw std::invalid_argument("neighbour grid: cell size must be positive");
+  m_ = opt.hashed ? 1 : std::max(1, opt.subdivision);
   for (int a = 0; a < D; ++a) {
     const double len = double(opt.max[a] - opt.min[a]);
     if (opt.hashed) {
@@ -22,10 +23,11 @@ void NeighborGrid<D>::configure(const Options& opt) {
       continue;
     }
     if (!(len > 0)) throw std::invalid_argument("neighbour grid: empty domain on axis " + std::to_string(a));
-    std::int64_t n = std::max<std::int64_t>(1, std::int64_t(std::floor(len / double(opt.cell_size))));
-    if (opt.periodic[a] && n < 3)
-      throw std::invalid_argument("periodic axis " + std::to_string(a) +
-                                  " is shorter than 3 support radii; enlarge the domain");
+    std::int64_t n = std::max<std::int64_t>(1, std::int64_t(std::floor(len * m_ / double(opt.cell_size))));
+    if (opt.periodic[a] && n < 2 * m_ + 1)
+      throw std::invalid_argument("periodic axis " + std::to_string(a) + " is shorter than " +
+                                  std::to_string(2 * m_ + 1) + "/" + std::to_string(m_) +
+                                  " support radii; enlarge the domain");
     dims_[a] = n;
     cell_[a] = Real(len / double(n));
   }
@@ -93,11 +95,13 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
   std::int64_t n_cells = 1;
   for (int a = 0; a < D; ++a) n_cells *= dims_[a];
   key_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Coord c = coord_of(x[i]);
+  const long nn = long(n);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < nn; ++i) {
+    const Coord c = coord_of(x[std::size_t(i)]);
     std::uint64_t k = 0;
     for (int a = D - 1; a >= 0; --a) k = k * std::uint64_t(dims_[a]) + std::uint64_t(c[a]);
-    key_[i] = k;
+    key_[std::size_t(i)] = k;
   }
   // stable counting sort by cell
   count_.assign(std::size_t(n_cells) + 1, 0);
@@ -119,25 +123,27 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
       blocks_.push_back({count_[c], count_[c + 1], 0, 0});
     }
   }
-  // neighbour ranges of every block
-  ranges_.clear();
-  const int n_off = D == 2 ? 9 : 27;
-  for (auto& b : blocks_) {
+  // neighbour ranges of every block, in two parallel passes (count, then fill) so the layout is the
+  // same for any thread count
+  const int w = 2 * m_ + 1;
+  const int n_off = D == 2 ? w * w : w * w * w;
+  auto visit = [&](const CellBlock& b, auto&& emit) {
     std::uint64_t k = key_[perm[b.begin]];
     Coord c;
     for (int a = 0; a < D; ++a) {
       c[a] = std::int64_t(k % std::uint64_t(dims_[a]));
       k /= std::uint64_t(dims_[a]);
     }
-    b.nbr_begin = std::uint32_t(ranges_.size());
+    NeighborRange pending{0, 0, 0};
+    bool have = false;
     for (int o = 0; o < n_off; ++o) {
       int t = o;
       Coord nc;
       std::array<int, D> wrap{};
       bool valid = true;
       for (int a = 0; a < D; ++a) {
-        const int d = t % 3 - 1;
-        t /= 3;
+        const int d = t % w - m_;
+        t /= w;
         nc[a] = c[a] + d;
         if (nc[a] < 0 || nc[a] >= dims_[a]) {
           if (!opt_.periodic[a]) { valid = false; break; }
@@ -151,9 +157,36 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
       for (int a = D - 1; a >= 0; --a) nk = nk * std::uint64_t(dims_[a]) + std::uint64_t(nc[a]);
       const std::int64_t nb = cell_block_[nk];
       if (nb < 0) continue;
-      ranges_.push_back({blocks_[nb].begin, blocks_[nb].end, shift_id(wrap)});
+      const NeighborRange nr{blocks_[nb].begin, blocks_[nb].end, shift_id(wrap)};
+      // cells adjacent along x are adjacent in memory: extend the pending range
+      if (have && pending.end == nr.begin && pending.shift == nr.shift) {
+        pending.end = nr.end;
+      } else {
+        if (have) emit(pending);
+        pending = nr;
+        have = true;
+      }
     }
-    b.nbr_end = std::uint32_t(ranges_.size());
+    if (have) emit(pending);
+  };
+  const long nblk = long(blocks_.size());
+#pragma omp parallel for schedule(static)
+  for (long q = 0; q < nblk; ++q) {
+    std::uint32_t cnt = 0;
+    visit(blocks_[q], [&](const NeighborRange&) { ++cnt; });
+    blocks_[q].nbr_end = cnt;
+  }
+  std::uint32_t total = 0;
+  for (auto& b : blocks_) {
+    b.nbr_begin = total;
+    total += b.nbr_end;
+    b.nbr_end = total;
+  }
+  ranges_.resize(total);
+#pragma omp parallel for schedule(static)
+  for (long q = 0; q < nblk; ++q) {
+    std::uint32_t at = blocks_[q].nbr_begin;
+    visit(blocks_[q], [&](const NeighborRange& r) { ranges_[at++] = r; });
   }
 }
 

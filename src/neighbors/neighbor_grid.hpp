@@ -2,7 +2,9 @@
 // Cell-linked neighbour search. Particles are counting-sorted by cell, so each occupied cell is one
 // contiguous block; for every block we store the (sorted) particle ranges of its 3^D neighbour cells
 // with the periodic image shift to apply. Two builders fill the same structure:
-//  - a uniform grid over a bounded domain (periodic axes wrap), cell index = linear index;
+//  - a uniform grid over a bounded domain (periodic axes wrap), cell index = linear index, cells of half
+//    the support by default (fewer candidate pairs); neighbour cells adjacent along x are merged into
+//    one contiguous particle range;
 //  - a hash grid for unbounded domains: cells keyed by integer coordinates hashed into buckets.
 // The pair loops (physics/pair_loop.hpp) only see blocks and ranges.
 #include <array>
@@ -31,6 +33,7 @@ class NeighborGrid {
     std::array<bool, D> periodic{};
     bool hashed = false;  // unbounded domain: hash grid
     Real cell_size = 1;   // >= support radius (+ skin when lists are reused)
+    int subdivision = 2;  // uniform grid: cells of cell_size / subdivision, stencil of (2 s + 1)^D cells
   };
 
   void configure(const Options& opt);
@@ -58,6 +61,7 @@ class NeighborGrid {
   std::uint32_t shift_id(const std::array<int, D>& wrap) const;
 
   Options opt_;
+  int m_ = 1;  // stencil half-width in cells
   std::array<std::int64_t, D> dims_{};
   Vec<D> cell_;
   std::vector<Vec<D>> shifts_;  // 3^D images: wrap in {-1,0,1} per axis

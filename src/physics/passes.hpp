@@ -61,12 +61,13 @@ struct AccelerationPass {
   const ParticleView<D>& s;
   Vec<D> gravity;
   Vec<D>* acc_out;
+  const Real* p_over_rho2;  // p / rho^2 per particle, computed once per pass (not per pair)
   struct Acc {
     Vec<D> a;
     Real p_over_rho2;
   };
   bool active(std::size_t i) const { return s.kind[i] == kFluid; }
-  Acc begin(std::size_t i) const { return {Vec<D>::Zero(), s.p[i] / (s.rho[i] * s.rho[i])}; }
+  Acc begin(std::size_t i) const { return {Vec<D>::Zero(), p_over_rho2[i]}; }
   void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     const bool j_fluid = s.kind[j] == kFluid;
     if (!j_fluid) {
@@ -76,11 +77,31 @@ struct AccelerationPass {
       }
     }
     const Real F = W.grad_factor_r2(r2);  // grad_i W_ij = F x_ij
-    Real coef = acc.p_over_rho2 + s.p[j] / (s.rho[j] * s.rho[j]);
+    Real coef = acc.p_over_rho2 + p_over_rho2[j];
     if constexpr (Viscosity::enabled) coef += visc.pi((s.v[i] - s.v[j]).dot(xij), r2, s.rho[i], s.rho[j]);
     acc.a -= (s.mass[j] * coef * F) * xij;
   }
   void end(std::size_t i, const Acc& acc) const { acc_out[i] = acc.a + gravity; }
+};
+
+// Force of the fluid on boundary particles (probes: force and moment on a body). For boundary particle
+// b: F_b = - sum_{fluid i} m_i a_ib, where a_ib is exactly the pair term the acceleration pass adds to
+// fluid particle i for neighbour b (Newton's third law on the same pair terms: pressure, viscosity,
+// repulsive wall). Gravity is not a pair term and is not included. Writes only boundary slots.
+template <int D, class AccPass>
+struct BoundaryReactionPass {
+  const AccPass& acc_pass;
+  const ParticleView<D>& s;
+  Vec<D>* force;
+  bool active(std::size_t b) const { return s.kind[b] != kFluid; }
+  Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
+  void pair(Vec<D>& f, std::size_t b, std::size_t i, const Vec<D>& x_bi, Real r2) const {
+    if (s.kind[i] != kFluid) return;
+    auto a = acc_pass.begin(i);
+    acc_pass.pair(a, i, b, Vec<D>(-x_bi), r2);  // the term fluid i receives from b (x_ib = -x_bi)
+    f -= s.mass[i] * a.a;
+  }
+  void end(std::size_t b, const Vec<D>& f) const { force[b] = f; }
 };
 
 }  // namespace varsph::physics

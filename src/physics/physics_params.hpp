@@ -16,6 +16,7 @@ struct PhysicsParams {
   kernels::KernelType kernel = kernels::KernelType::Gaussian;
   Real h = 0;               // smoothing length [m]
   Real kernel_l = 9.47;     // paper_literal kernel constant l (eq. 10)
+  bool kernel_tabulated = true;  // W, F from a table in r^2 (kernels/tabulated.hpp) or exact
   Real rho0 = 1000;         // rest density [kg/m^3]
   Real c0 = 0;              // speed of sound [m/s]
   Vec<D> gravity = Vec<D>::Zero();  // [m/s^2]

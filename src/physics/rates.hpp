@@ -19,6 +19,8 @@ class Rates {
   virtual void summation_density(const NeighborGrid<D>& grid, const ParticleView<D>& s, Real* rho) const = 0;
   // accelerations of fluid particles (boundary particles untouched).
   virtual void acceleration(const NeighborGrid<D>& grid, const ParticleView<D>& s, Vec<D>* a) const = 0;
+  // force of the fluid on every boundary particle (BoundaryReactionPass; fluid slots untouched) [N]
+  virtual void boundary_reaction(const NeighborGrid<D>& grid, const ParticleView<D>& s, Vec<D>* force) const = 0;
   virtual Real support() const = 0;
   virtual Real kernel_w(Real r) const = 0;  // W(r), for probes and tests
 };

@@ -1,7 +1,10 @@
 // Resolves the scene's kernel x viscosity x wall model into one compiled Rates implementation.
+#include <vector>
+
 #include "kernels/cubic_spline.hpp"
 #include "kernels/gaussian.hpp"
 #include "kernels/paper_literal.hpp"
+#include "kernels/tabulated.hpp"
 #include "kernels/wendland_c2.hpp"
 #include "physics/pair_loop.hpp"
 #include "physics/passes.hpp"
@@ -25,10 +28,23 @@ class RatesImpl final : public Rates<D> {
     for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
   }
   void acceleration(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) const override {
-    AccelerationPass<D, Kernel, Viscosity, M> pass{W_, visc_, wall_, s, p_.gravity, a};
+    AccelerationPass<D, Kernel, Viscosity, M> pass{W_, visc_, wall_, s, p_.gravity, a, pressure_terms(s)};
+    for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+  }
+  void boundary_reaction(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* force) const override {
+    using Acc = AccelerationPass<D, Kernel, Viscosity, M>;
+    const Acc acc{W_, visc_, wall_, s, p_.gravity, nullptr, pressure_terms(s)};
+    BoundaryReactionPass<D, Acc> pass{acc, s, force};
     for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
   }
   Real support() const override { return W_.support(); }
+  // p / rho^2 of every particle, once per pass instead of once per pair (scratch grows once)
+  const Real* pressure_terms(const ParticleView<D>& s) const {
+    p_over_rho2_.resize(s.size());
+    Real* pr = p_over_rho2_.data();
+    for_each_particle(s.size(), [&](std::size_t i) { pr[i] = s.p[i] / (s.rho[i] * s.rho[i]); });
+    return pr;
+  }
   Real kernel_w(Real r) const override { return r < W_.support() ? W_.w_r2(r * r) : Real(0); }
 
  private:
@@ -36,6 +52,7 @@ class RatesImpl final : public Rates<D> {
   Kernel W_;
   Viscosity visc_;
   RepulsiveWall wall_;
+  mutable std::vector<Real> p_over_rho2_;  // scratch of the acceleration pass
 };
 
 template <int D, class Kernel, class Viscosity>
@@ -59,6 +76,7 @@ std::unique_ptr<Rates<D>> with_viscosity(const PhysicsParams<D>& p, Kernel k) {
 template <int D>
 std::unique_ptr<Rates<D>> make_rates(const PhysicsParams<D>& p) {
   using kernels::KernelType;
+  if (p.kernel_tabulated) return with_viscosity<D>(p, kernels::Tabulated<D>(p.kernel, p.h, p.kernel_l));
   switch (p.kernel) {
     case KernelType::Gaussian: return with_viscosity<D>(p, kernels::Gaussian<D>(p.h));
     case KernelType::CubicSpline: return with_viscosity<D>(p, kernels::CubicSpline<D>(p.h));

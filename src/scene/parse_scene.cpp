@@ -112,6 +112,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
     const double ratio = r.number("kernel.h_over_dx", 1.2, 0.5, 10, "h/dx");
     s.h = ratio * s.spacing;
   }
+  s.kernel_tabulated = r.boolean("kernel.tabulated", true);
   if (s.kernel == kernels::KernelType::PaperLiteral) s.kernel_l = r.positive("kernel.l", 9.47, "kernel constant l");
 
   s.gravity = r.vector("gravity", d, std::vector<double>(d, 0.0), "gravitational acceleration [m/s^2]");
@@ -221,6 +222,9 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.output_precision = r.choice("output.precision", "float32", {"float32", "float64"});
   s.checkpoint_every = r.number("checkpoint.every", 0.0, 0, kInf, "simulated seconds between checkpoints");
   s.checkpoint_wall_minutes = r.number("checkpoint.wall_minutes", 0.0, 0, kInf, "wall-clock minutes");
+  s.checkpoint_every_steps = r.integer("checkpoint.every_steps", 0, 0, 1000000000000L);
+  s.probes_every = r.number("output.probes_every", s.output_every / 10, 0, kInf,
+                            "simulated seconds between probes.csv rows (0 = every step)");
   s.probes = r.subtree("probes", json::array());
   if (!s.probes.is_array()) r.fail_got("probes", "a list of probes", s.probes);
   s.max_density_error = r.number("health.max_density_error", 0.5, 1e-6, 100, "largest |rho/rho0 - 1|");

@@ -43,6 +43,7 @@ struct Scene {
   kernels::KernelType kernel = kernels::KernelType::Gaussian;
   double h = 0;         // smoothing length [m]
   double kernel_l = 9.47;
+  bool kernel_tabulated = true;
 
   double rho0 = 1000;
   double c0 = 0;               // resolved speed of sound [m/s]
@@ -76,6 +77,8 @@ struct Scene {
   std::string output_precision = "float32";
   double checkpoint_every = 0;  // [s] simulated, 0 = only at end
   double checkpoint_wall_minutes = 0;
+  long checkpoint_every_steps = 0;  // steps between checkpoints, 0 = off
+  double probes_every = 0;      // [s] simulated between probes.csv rows (output.probes_every)
   nlohmann::json probes;        // list, validated by the probes module
   double max_density_error = 0.5;  // health: |rho/rho0 - 1| beyond this stops the run (exit 3)
   int log_every_steps = 0;

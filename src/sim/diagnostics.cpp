@@ -55,32 +55,37 @@ template <int D>
 std::string check_health(const Simulation<D>& sim) {
   const auto& f = sim.fields();
   const auto& s = sim.scene();
-  for (std::size_t i = 0; i < sim.size(); ++i) {
+  // parallel scan for the first failing particle (lowest index: the same answer for any thread count)
+  const long n = long(sim.size());
+  long first_bad = n;
+#pragma omp parallel for schedule(static) reduction(min : first_bad)
+  for (long i = 0; i < n; ++i) {
     if (f.kind[i] != 0) continue;
     const auto& x = f.x[i];
-    if (!x.allFinite() || !f.v[i].allFinite() || !std::isfinite(double(f.rho[i]))) {
-      std::ostringstream msg;
-      msg << "particle id " << f.id[i] << " has a non-finite position, velocity or density";
-      return msg.str();
-    }
-    for (int a = 0; a < D; ++a) {
-      if (s.periodic[a]) continue;
-      if (double(x[a]) < s.domain_min[a] || double(x[a]) > s.domain_max[a]) {
-        std::ostringstream msg;
-        msg << "particle id " << f.id[i] << " left the domain on axis " << a << " (coordinate " << double(x[a])
-            << ", domain [" << s.domain_min[a] << ", " << s.domain_max[a] << "])";
-        return msg.str();
-      }
-    }
-    const double err = std::abs(double(f.rho[i]) / s.rho0 - 1.0);
-    if (err > s.max_density_error) {
-      std::ostringstream msg;
-      msg << "particle id " << f.id[i] << " has density " << double(f.rho[i]) << " (|rho/rho0 - 1| = " << err
-          << " > health.max_density_error = " << s.max_density_error << ")";
-      return msg.str();
-    }
+    bool bad = !x.allFinite() || !f.v[i].allFinite() || !std::isfinite(double(f.rho[i]));
+    for (int a = 0; a < D && !bad; ++a)
+      bad = !s.periodic[a] && (double(x[a]) < s.domain_min[a] || double(x[a]) > s.domain_max[a]);
+    bad = bad || std::abs(double(f.rho[i]) / s.rho0 - 1.0) > s.max_density_error;
+    if (bad && i < first_bad) first_bad = i;
   }
-  return {};
+  if (first_bad == n) return {};
+  const std::size_t i = std::size_t(first_bad);
+  const auto& x = f.x[i];
+  std::ostringstream msg;
+  if (!x.allFinite() || !f.v[i].allFinite() || !std::isfinite(double(f.rho[i]))) {
+    msg << "particle id " << f.id[i] << " has a non-finite position, velocity or density";
+    return msg.str();
+  }
+  for (int a = 0; a < D; ++a)
+    if (!s.periodic[a] && (double(x[a]) < s.domain_min[a] || double(x[a]) > s.domain_max[a])) {
+      msg << "particle id " << f.id[i] << " left the domain on axis " << a << " (coordinate " << double(x[a])
+          << ", domain [" << s.domain_min[a] << ", " << s.domain_max[a] << "])";
+      return msg.str();
+    }
+  const double err = std::abs(double(f.rho[i]) / s.rho0 - 1.0);
+  msg << "particle id " << f.id[i] << " has density " << double(f.rho[i]) << " (|rho/rho0 - 1| = " << err
+      << " > health.max_density_error = " << s.max_density_error << ")";
+  return msg.str();
 }
 
 template Diagnostics compute_diagnostics<2>(const Simulation<2>&);

@@ -19,7 +19,8 @@ struct ParticleFields {
         mass(s.add<Real>("mass", {.exported = true})),
         id(s.add<std::int64_t>("id", {.exported = true})),
         kind(s.add<std::int32_t>("kind", {.exported = true})),
-        normal(s.add<Vec<D>>("normal", {.exported = true})) {}
+        normal(s.add<Vec<D>>("normal", {.exported = true})),
+        body(s.add<std::int32_t>("body", {.exported = false})) {}
   Field<Vec<D>>& x;      // positions q_k [m]
   Field<Vec<D>>& v;      // velocities [m/s] (Verlet: half-step (q_k - q_{k-1})/dt, seed eq. 60)
   Field<Vec<D>>& a;      // last accelerations [m/s^2] (scratch)
@@ -30,6 +31,7 @@ struct ParticleFields {
   Field<std::int64_t>& id;    // stable identity across sorting, frames and restarts
   Field<std::int32_t>& kind;  // 0 fluid, 1 boundary
   Field<Vec<D>>& normal;      // outward wall normal on boundary particles, zero on fluid
+  Field<std::int32_t>& body;  // index of the scene body the particle came from (probes: force on a body)
 };
 
 }  // namespace varsph

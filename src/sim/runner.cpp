@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
@@ -13,12 +15,15 @@
 
 #include "core/errors.hpp"
 #include "io/atomic_file.hpp"
+#include "io/checkpoint.hpp"
 #include "io/csv_table.hpp"
 #include "io/pvd_series.hpp"
 #include "io/run_directory.hpp"
 #include "sim/build_info.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/frame_export.hpp"
+#include "sim/probes.hpp"
+#include "sim/restart.hpp"
 #include "sim/simulation.hpp"
 
 namespace varsph {
@@ -47,40 +52,76 @@ class Runner {
   int run() {
     using clock = std::chrono::steady_clock;
     if (opt_.threads > 0) omp_set_num_threads(opt_.threads);
+    // a restart checkpoint is read and validated before the run directory is touched (exit 2, nothing
+    // overwritten)
+    std::optional<io::Checkpoint> ckpt;
+    if (!opt_.restart.empty()) ckpt = io::read_checkpoint(opt_.restart);
     Simulation<D> sim(scene_);
+    Probes<D> probes(scene_);
+    if (ckpt) {
+      restore_from_checkpoint(sim, *ckpt, opt_.restart.string());
+      ckpt->arrays = {};  // the header (runner state) is still needed; the particle copy is not
+    }
     dir_ = io::prepare_run_directory(opt_.output_dir, scene_.name, opt_.overwrite, !opt_.restart.empty());
-    pvd_ = std::make_unique<io::PvdSeries>(dir_.pvd());
-    diag_.open(dir_.diagnostics(), kDiagnosticColumns);
     started_ = iso_now();
     t0_ = clock::now();
+    last_checkpoint_wall_ = t0_;
+    try {
+      return run_loop(sim, probes, ckpt ? &*ckpt : nullptr);
+    } catch (const IoError& e) {
+      // best effort: the disk may be full or the directory gone
+      try {
+        write_run_json(sim, "failed", std::string("I/O error: ") + e.what());
+      } catch (const std::exception&) {
+      }
+      throw;
+    }
+  }
+
+ private:
+  int run_loop(Simulation<D>& sim, Probes<D>& probes, const io::Checkpoint* ckpt) {
+    using clock = std::chrono::steady_clock;
+    open_outputs(sim, probes, ckpt);
     write_run_json(sim, "running", "");
 
     const bool tty = isatty(STDOUT_FILENO) && !opt_.quiet;
-    if (!opt_.quiet)
+    if (!opt_.quiet) {
       std::printf("varsph: %s: %zu fluid + %zu boundary particles, dt %.3g s, to t = %g s -> %s\n",
                   scene_.name.c_str(), sim.count(0), sim.count(1), sim.dt(), scene_.t_end,
                   dir_.root.string().c_str());
-    write_frame(sim);
-    double next_frame = scene_.output_every;
+      if (ckpt)
+        std::printf("varsph: restarting from %s (step %ld, t = %.9g s)\n", opt_.restart.string().c_str(), sim.step(),
+                    sim.time());
+    }
+    if (!ckpt) {
+      write_frame(sim);
+      if (!probes.empty()) write_probes(sim, probes);
+    }
     auto last_log = clock::now();
     std::string failure;
     int exit_code = kExitOk;
     const long start_step = sim.step();
 
     while (sim.time() < scene_.t_end - 0.5 * sim.dt()) {
+      capture_last_good(sim);
       const StepReport& rep = sim.advance();
       accumulate(rep);
       last_frame_at_current_ = false;
       if (const std::string bad = check_health(sim); !bad.empty()) {
-        failure = "numerical failure at step " + std::to_string(sim.step()) + ", t = " + std::to_string(sim.time()) +
-                  " s: " + bad + ". The last good frame is " + last_frame_name_;
+        failure = handle_blow_up(sim, bad);
         exit_code = kExitNumerical;
         break;
       }
-      if (sim.time() >= next_frame - 0.5 * sim.dt()) {
+      if (sim.time() >= next_frame_ - 0.5 * sim.dt()) {
         write_frame(sim);
-        while (next_frame <= sim.time() + 0.5 * sim.dt()) next_frame += scene_.output_every;
+        while (next_frame_ <= sim.time() + 0.5 * sim.dt()) next_frame_ += scene_.output_every;
       }
+      if (!probes.empty() && sim.time() >= next_probe_ - 0.5 * sim.dt()) {
+        write_probes(sim, probes);
+        if (scene_.probes_every > 0)
+          while (next_probe_ <= sim.time() + 0.5 * sim.dt()) next_probe_ += scene_.probes_every;
+      }
+      if (checkpoint_due(sim)) write_checkpoint(sim);
       const double wall = seconds_since(t0_);
       if (tty) {
         const double rate = double(sim.step() - start_step) / std::max(wall, 1e-9);
@@ -95,15 +136,20 @@ class Runner {
         std::fflush(stdout);
       }
       if (const int sig = g_signal) {
+        // the step is finished: write a frame and a checkpoint of it, then stop
         if (!last_frame_at_current_) write_frame(sim);
+        const std::string cp = write_checkpoint(sim);
         failure = std::string("stopped by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM") + " at step " +
                   std::to_string(sim.step()) + ", t = " + std::to_string(sim.time()) + " s; last frame " +
-                  last_frame_name_;
+                  last_frame_name_ + ", checkpoint " + cp + " (continue with --restart " + cp + ")";
         exit_code = sig == SIGINT ? kExitSigint : kExitSigterm;
         break;
       }
     }
-    if (exit_code == kExitOk && !last_frame_at_current_) write_frame(sim);
+    if (exit_code == kExitOk) {
+      if (!last_frame_at_current_) write_frame(sim);
+      write_checkpoint(sim);
+    }
     if (tty) std::printf("\n");
     const double wall = seconds_since(t0_);
     steps_ = sim.step() - start_step;
@@ -120,9 +166,152 @@ class Runner {
     return kExitOk;
   }
 
- private:
   static double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  }
+
+  // --- outputs and restart ------------------------------------------------------------------------
+  // Opens the .pvd, diagnostics.csv and probes.csv. A restart in the run's own directory keeps what
+  // was written up to the checkpoint time and drops what came after (frames, rows, later checkpoints);
+  // schedules (frame numbering, next output times) continue from the checkpoint's runner state.
+  void open_outputs(Simulation<D>& sim, Probes<D>& probes, const io::Checkpoint* ckpt) {
+    pvd_ = std::make_unique<io::PvdSeries>(dir_.pvd());
+    next_frame_ = scene_.output_every;
+    next_probe_ = scene_.probes_every;
+    next_checkpoint_ = scene_.checkpoint_every;
+    double keep_up_to = -1;
+    if (ckpt) {
+      const auto& rs = ckpt->header.runner_state;
+      const double t = sim.time(), half = 0.5 * sim.dt();
+      const auto resume = [&](const char* next_key, const char* every_key, double every, double& next) {
+        if (rs.contains(next_key) && rs.contains(every_key) && rs.at(every_key).get<double>() == every) {
+          next = rs.at(next_key).get<double>();
+        } else if (every > 0) {  // the rate changed on restart: the first multiple after t
+          next = every * std::floor(t / every);
+          while (next <= t + half) next += every;
+        }
+      };
+      resume("next_frame", "output_every", scene_.output_every, next_frame_);
+      resume("next_probe", "probes_every", scene_.probes_every, next_probe_);
+      resume("next_checkpoint", "checkpoint_every", scene_.checkpoint_every, next_checkpoint_);
+      frame_index_ = rs.value("frame_index", 0L);
+      const auto& fp = rs.value("fp", nlohmann::json::object());
+      fp_steps_ = fp.value("steps", 0L);
+      fp_iter_sum_ = fp.value("iter_sum", 0L);
+      fp_iter_max_ = fp.value("iter_max", 0);
+      fp_res_max_ = fp.value("res_max", 0.0);
+      fp_contr_max_ = fp.value("contr_max", 0.0);
+      dt_bound_ = fp.value("dt_bound", 0.0);
+      last_checkpoint_step_ = sim.step();
+      if (in_own_directory()) {
+        keep_up_to = sim.time();
+        pvd_->load();
+        pvd_->truncate_after(keep_up_to + 1e-12);
+        pvd_->write();
+        drop_later_files(sim.step());
+      }
+      last_frame_name_ = "(none since the restart)";
+    }
+    diag_.open(dir_.diagnostics(), kDiagnosticColumns, keep_up_to);
+    if (!probes.empty()) {
+      std::vector<std::string> cols = {"time"};
+      for (auto& c : probes.columns()) cols.push_back(c);
+      probes_csv_.open(dir_.probes(), cols, keep_up_to);
+    }
+  }
+
+  bool in_own_directory() const {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path from = fs::weakly_canonical(fs::absolute(opt_.restart), ec).parent_path().parent_path();
+    return fs::equivalent(from, dir_.root, ec);
+  }
+
+  // Restart in the run's own directory: frames numbered from the checkpoint's next frame on and
+  // checkpoints of later steps belong to the replaced future.
+  void drop_later_files(long step) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    for (const auto& [s, p] : io::list_checkpoints(dir_.checkpoints()))
+      if (s > step) fs::remove(p, ec);
+    for (long k = frame_index_;; ++k) {
+      if (!fs::exists(dir_.frame(k), ec)) break;
+      fs::remove(dir_.frame(k), ec);
+    }
+  }
+
+  nlohmann::json runner_state() const {
+    return {{"frame_index", frame_index_},
+            {"next_frame", next_frame_},
+            {"output_every", scene_.output_every},
+            {"next_probe", next_probe_},
+            {"probes_every", scene_.probes_every},
+            {"next_checkpoint", next_checkpoint_},
+            {"checkpoint_every", scene_.checkpoint_every},
+            {"fp",
+             {{"steps", fp_steps_},
+              {"iter_sum", fp_iter_sum_},
+              {"iter_max", fp_iter_max_},
+              {"res_max", fp_res_max_},
+              {"contr_max", fp_contr_max_},
+              {"dt_bound", dt_bound_}}}};
+  }
+
+  // --- checkpoints --------------------------------------------------------------------------------
+  bool checkpoint_due(const Simulation<D>& sim) {
+    bool due = false;
+    if (scene_.checkpoint_every_steps > 0 && sim.step() % scene_.checkpoint_every_steps == 0) due = true;
+    if (scene_.checkpoint_every > 0 && sim.time() >= next_checkpoint_ - 0.5 * sim.dt()) {
+      due = true;
+      while (next_checkpoint_ <= sim.time() + 0.5 * sim.dt()) next_checkpoint_ += scene_.checkpoint_every;
+    }
+    if (scene_.checkpoint_wall_minutes > 0 &&
+        seconds_since(last_checkpoint_wall_) >= 60.0 * scene_.checkpoint_wall_minutes)
+      due = true;
+    return due;
+  }
+
+  // Writes DIR/checkpoints/step_N.h5 atomically and keeps the last two; returns its path.
+  std::string write_checkpoint(Simulation<D>& sim) {
+    const auto path = dir_.checkpoints() / io::checkpoint_file_name(sim.step());
+    if (last_checkpoint_step_ != sim.step() || !std::filesystem::exists(path)) {
+      io::write_checkpoint(path, checkpoint_header(sim, runner_state()), sim.store());
+      last_checkpoint_step_ = sim.step();
+      last_checkpoint_wall_ = std::chrono::steady_clock::now();
+      auto all = io::list_checkpoints(dir_.checkpoints());
+      std::error_code ec;
+      for (std::size_t k = 0; k + 2 < all.size(); ++k) std::filesystem::remove(all[k].second, ec);
+    }
+    return path.string();
+  }
+
+  // --- blow-up handling ---------------------------------------------------------------------------
+  // The state before each step is copied into preallocated buffers (cost measured in run.json:
+  // timings.last_good_copy_seconds), so a failing step can be undone and written.
+  void capture_last_good(Simulation<D>& sim) {
+    const auto t = std::chrono::steady_clock::now();
+    last_good_.capture(sim, runner_state());
+    snapshot_seconds_ += seconds_since(t);
+  }
+
+  std::string handle_blow_up(Simulation<D>& sim, const std::string& bad) {
+    const long bad_step = sim.step();
+    const double bad_time = sim.time();
+    std::string msg = "numerical failure at step " + std::to_string(bad_step) + ", t = " + std::to_string(bad_time) +
+                      " s: " + bad + ".";
+    if (!last_good_.valid()) return msg;
+    last_good_.restore(sim);
+    if (last_frame_step_ != sim.step()) write_frame(sim);
+    const std::string cp = write_checkpoint(sim);
+    return msg + " Wrote the last good state (step " + std::to_string(sim.step()) + ", t = " +
+           std::to_string(sim.time()) + " s): frame " + last_frame_name_ + ", checkpoint " + cp;
+  }
+
+  // --- per-frame and per-sample output ------------------------------------------------------------
+  void write_probes(const Simulation<D>& sim, Probes<D>& probes) {
+    std::vector<std::string> row = {io::CsvTable::num(sim.time())};
+    for (double v : probes.sample(sim)) row.push_back(io::CsvTable::num(v));
+    probes_csv_.row(row);
   }
 
   void accumulate(const StepReport& r) {
@@ -141,6 +330,7 @@ class Runner {
     pvd_->add(sim.time(), dir_.frame_relative(index));
     last_frame_name_ = dir_.frame_relative(index);
     last_frame_at_current_ = true;
+    last_frame_step_ = sim.step();
     const Diagnostics d = compute_diagnostics(sim);
     using io::CsvTable;
     std::vector<std::string> row = {
@@ -190,7 +380,9 @@ class Runner {
                       {"simulated_seconds", sim.time()},
                       {"fluid_particle_steps_per_second", particle_steps_ / std::max(wall, 1e-9)},
                       {"ns_per_fluid_particle_step", wall / std::max(particle_steps_, 1.0) * 1e9},
-                      {"threads", omp_get_max_threads()}};
+                      {"threads", omp_get_max_threads()},
+                      {"last_good_copy_seconds", snapshot_seconds_},
+                      {"last_good_copy_bytes", last_good_.bytes()}};
     }
     io::write_text_atomically(dir_.run_json(), j.dump(2) + "\n");
   }
@@ -199,7 +391,12 @@ class Runner {
   RunOptions opt_;
   io::RunDirectory dir_;
   std::unique_ptr<io::PvdSeries> pvd_;
-  io::CsvTable diag_;
+  io::CsvTable diag_, probes_csv_;
+  double next_frame_ = 0, next_probe_ = 0, next_checkpoint_ = 0;
+  long last_checkpoint_step_ = -1, last_frame_step_ = -1;
+  std::chrono::steady_clock::time_point last_checkpoint_wall_;
+  StateSnapshot<D> last_good_;
+  double snapshot_seconds_ = 0;
   std::string started_, last_frame_name_ = "(none)";
   std::chrono::steady_clock::time_point t0_;
   long frame_index_ = 0, steps_ = 0;

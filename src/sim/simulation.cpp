@@ -18,6 +18,7 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
   p.kernel = s.kernel;
   p.h = Real(s.h);
   p.kernel_l = Real(s.kernel_l);
+  p.kernel_tabulated = s.kernel_tabulated;
   p.rho0 = Real(s.rho0);
   p.c0 = Real(s.c0);
   for (int a = 0; a < D; ++a) p.gravity[a] = Real(s.gravity[a]);
@@ -56,6 +57,7 @@ Simulation<D>::Simulation(const scene::Scene& scene)
     f_.id[i] = std::int64_t(i);
     f_.kind[i] = init.kind[i];
     f_.normal[i] = init.normal[i];
+    f_.body[i] = i < init.body.size() ? std::int32_t(init.body[i]) : -1;
   }
   n_fluid_ = init.count(0);
   n_boundary_ = init.count(1);

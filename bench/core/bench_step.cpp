@@ -1,0 +1,88 @@
+// Speed of the solver step on the foundation cases (issue "Foundation", section Speed; issue
+// "Performance"): ns per fluid particle-step, fluid particle-steps/s, pair interactions/s and mean
+// neighbours, for 1 and 2 threads. Timings only here, never in tests.
+//   bench_step [--quick] [--case NAME]
+#include <omp.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "scene/scene.hpp"
+#include "sim/simulation.hpp"
+
+using namespace varsph;
+
+namespace {
+
+struct Case {
+  std::string name, scene;
+  std::vector<std::string> overrides;
+  int steps;
+};
+
+template <int D>
+double mean_neighbours(const Simulation<D>& sim) {
+  const auto& g = sim.grid();
+  const auto& x = sim.fields().x.data;
+  const Real rc2 = sim.rates().support() * sim.rates().support();
+  double total = 0;
+  std::size_t n = 0;
+  for (const auto& b : g.blocks())
+    for (std::uint32_t i = b.begin; i < b.end; ++i) {
+      if (sim.fields().kind[i] != 0) continue;
+      ++n;
+      for (std::uint32_t r = b.nbr_begin; r < b.nbr_end; ++r) {
+        const auto nr = g.ranges()[r];
+        for (std::uint32_t j = nr.begin; j < nr.end; ++j)
+          total += (j != i && (x[i] - g.shift(nr.shift) - x[j]).squaredNorm() < rc2);
+      }
+    }
+  return n ? total / double(n) : 0;
+}
+
+template <int D>
+void run_case(const scene::Scene& s, const Case& c) {
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    Simulation<D> sim(s);
+    sim.advance();  // warm-up (first sort moves everything)
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < c.steps; ++k) sim.advance();
+    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double ps = double(c.steps) * double(sim.count(0));
+    const double nb = mean_neighbours(sim);
+    std::printf("%-26s %9zu %8zu %3d %7.1f %10.1f %9.3f %9.1f %10.2f\n", c.name.c_str(), sim.count(0), sim.count(1),
+                threads, nb, sec / ps * 1e9, ps / sec * 1e-6, ps * nb / sec * 1e-6, sec / c.steps * 1e3);
+    std::fflush(stdout);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::string only;
+  for (int k = 1; k < argc; ++k) {
+    if (!std::strcmp(argv[k], "--quick")) quick = true;
+    if (!std::strcmp(argv[k], "--case") && k + 1 < argc) only = argv[++k];
+  }
+  const std::string dir = std::string(VARSPH_SOURCE_DIR) + "/pipelines/";
+  std::vector<Case> cases = {
+      {"dam_break_2d_paper_1682", "dam_break_2d_paper.json", {}, quick ? 200 : 2000},
+      {"dam_break_2d_27k", "dam_break_2d_paper.json", {"particles.spacing=0.00125", "integrator.dt=2.5e-5"}, quick ? 20 : 200},
+      {"dam_break_2d_430k", "dam_break_2d_paper.json", {"particles.spacing=0.0003125", "integrator.dt=6e-6"}, quick ? 3 : 20},
+      {"box_3d_100k", "bench_box_3d.json", {}, quick ? 3 : 20},
+  };
+  std::printf("# varsph %s (%s), %s build\n", VARSPH_VERSION, VARSPH_REAL_NAME, VARSPH_BUILD_TYPE);
+  std::printf("%-26s %9s %8s %3s %7s %10s %9s %9s %10s\n", "case", "fluid", "boundary", "thr", "neighb",
+              "ns/p-step", "Mp-step/s", "Mpair/s", "ms/step");
+  for (const auto& c : cases) {
+    if (!only.empty() && c.name.find(only) == std::string::npos) continue;
+    const auto s = scene::parse_scene(dir + c.scene, c.overrides);
+    if (s.dimension == 2) run_case<2>(s, c);
+    else run_case<3>(s, c);
+  }
+}

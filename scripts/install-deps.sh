@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs the build and run dependencies from Debian 12 packages (ParaView's own VTK, CGAL, HDF5, ...).
+# Do not add libvtk9-dev: it pulls python3-vtk9, which conflicts with python3-paraview (pvpython).
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+PACKAGES=(build-essential cmake ninja-build git
+          paraview paraview-dev python3-paraview python3-matplotlib xvfb
+          libcgal-dev libhdf5-dev libeigen3-dev libgtest-dev libbenchmark-dev
+          libcli11-dev nlohmann-json3-dev libtbb-dev)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+echo "install-deps: done"

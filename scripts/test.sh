@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Installs the dependencies, builds, and runs the fast test tier (what CI runs).
+# Slower tiers: ctest --preset validation / ctest --preset benchmark (see README).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+bash scripts/build.sh
+ctest --preset fast -j"$(nproc)" --output-on-failure

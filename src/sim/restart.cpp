@@ -1,0 +1,168 @@
+#include "sim/restart.hpp"
+
+#include <cstring>
+#include <map>
+
+#include "core/errors.hpp"
+
+namespace varsph {
+namespace {
+
+// Flattens a JSON value into dotted keys (objects and arrays both descend; arrays by index).
+void flatten(const nlohmann::json& j, const std::string& prefix, std::map<std::string, nlohmann::json>& out) {
+  if (j.is_object() && !j.empty()) {
+    for (auto it = j.begin(); it != j.end(); ++it) flatten(it.value(), prefix.empty() ? it.key() : prefix + "." + it.key(), out);
+  } else if (j.is_array() && !j.empty() && prefix != "probes") {
+    for (std::size_t k = 0; k < j.size(); ++k) flatten(j[k], prefix + "." + std::to_string(k), out);
+  } else {
+    out[prefix] = j;
+  }
+}
+
+bool starts_with(const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; }
+
+}  // namespace
+
+bool restart_may_change(const std::string& k) {
+  return k == "time.end" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
+         starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
+         starts_with(k, "log.");
+}
+
+std::string first_physics_difference(const nlohmann::json& a, const nlohmann::json& b) {
+  std::map<std::string, nlohmann::json> fa, fb;
+  flatten(a, "", fa);
+  flatten(b, "", fb);
+  auto ia = fa.begin(), ib = fb.begin();
+  // merge walk over the sorted keys of both
+  while (ia != fa.end() || ib != fb.end()) {
+    if (ib == fb.end() || (ia != fa.end() && ia->first < ib->first)) {
+      if (!restart_may_change(ia->first)) return ia->first;
+      ++ia;
+    } else if (ia == fa.end() || ib->first < ia->first) {
+      if (!restart_may_change(ib->first)) return ib->first;
+      ++ib;
+    } else {
+      if (ia->second != ib->second && !restart_may_change(ia->first)) return ia->first;
+      ++ia;
+      ++ib;
+    }
+  }
+  return {};
+}
+
+template <int D>
+void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const std::string& file) {
+  const auto& h = c.header;
+  const std::string where = file + ": ";
+  if (h.dimension != D)
+    throw InputError(where + "checkpoint of a " + std::to_string(h.dimension) + "D scene, but the scene '" +
+                     sim.scene().file.string() + "' is " + std::to_string(D) + "D");
+  if (h.real_type != VARSPH_REAL_NAME)
+    throw InputError(where + "checkpoint written by a build with Real = " + h.real_type + ", this build uses " +
+                     VARSPH_REAL_NAME + " (a restart would not be bitwise)");
+  if (const std::string k = first_physics_difference(h.scene, sim.scene().resolved); !k.empty()) {
+    const auto ptr = nlohmann::json::json_pointer("/" + [&] {
+      std::string p = k;
+      for (char& ch : p) if (ch == '.') ch = '/';
+      return p;
+    }());
+    const std::string was = h.scene.contains(ptr) ? h.scene.at(ptr).dump() : "(absent)";
+    const std::string now = sim.scene().resolved.contains(ptr) ? sim.scene().resolved.at(ptr).dump() : "(absent)";
+    throw InputError(where + "the scene's physics differs from the checkpoint's at key '" + k + "' (checkpoint: " +
+                     was + ", scene: " + now + "); only time.end, output.*, checkpoint.*, probes and log.* may "
+                     "change on restart");
+  }
+  if (std::size_t(h.particles) != sim.size())
+    throw InputError(where + "checkpoint has " + std::to_string(h.particles) + " particles, the scene builds " +
+                     std::to_string(sim.size()));
+  if (h.integrator != sim.integrator().name())
+    throw InputError(where + "checkpoint was written by the '" + h.integrator + "' integrator, the scene uses '" +
+                     sim.integrator().name() + "'");
+  // every checkpointed field of this build must be in the file with the same shape and type
+  for (const auto& f : sim.store().fields()) {
+    if (!f->flags().checkpointed) continue;
+    const io::CheckpointArray* a = c.find(f->name());
+    if (!a) throw InputError(where + "particle field '" + f->name() + "' is missing from the checkpoint");
+    if (a->type != f->scalar_type() || a->components != f->components() ||
+        a->bytes.size() != f->bytes_per_particle() * sim.size())
+      throw InputError(where + "particle field '" + f->name() + "' has another type or shape in the checkpoint");
+  }
+  for (const auto& f : sim.store().fields()) {
+    if (!f->flags().checkpointed) continue;
+    const io::CheckpointArray* a = c.find(f->name());
+    if (!a->bytes.empty()) std::memcpy(f->raw(), a->bytes.data(), a->bytes.size());
+  }
+  sim.set_clock(h.time, long(h.step));
+  // the arrays are in the order of the checkpointed step's cell sort; sorting again is stable, so this
+  // rebuilds the neighbour grid for them without changing the order (checked by the restart tests)
+  sim.sort_and_bin();
+  sim.set_dt(h.dt);
+  sim.integrator().restore_state(h.integrator_state);
+}
+
+template <int D>
+io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json& runner_state) {
+  io::CheckpointHeader h;
+  h.program_version = VARSPH_VERSION;
+  h.real_type = VARSPH_REAL_NAME;
+  h.dimension = D;
+  h.step = sim.step();
+  h.time = sim.time();
+  h.dt = sim.dt();
+  h.particles = std::int64_t(sim.size());
+  h.scene = sim.scene().resolved;
+  auto& integ = sim.integrator();
+  h.integrator = integ.name();
+  h.integrator_state = integ.save_state();
+  h.runner_state = runner_state;
+  return h;
+}
+
+template <int D>
+void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_state) {
+  const auto& fields = sim.store().fields();
+  buffers_.resize(fields.size());
+  for (std::size_t k = 0; k < fields.size(); ++k) {
+    const auto& f = fields[k];
+    if (!f->flags().checkpointed) continue;
+    const std::size_t n = f->bytes_per_particle() * f->size();
+    buffers_[k].resize(n);  // no reallocation after the first capture
+    if (n) std::memcpy(buffers_[k].data(), f->raw(), n);
+  }
+  time_ = sim.time();
+  dt_ = sim.dt();
+  step_ = sim.step();
+  integrator_state_ = sim.integrator().save_state();
+  runner_state_ = runner_state;
+  valid_ = true;
+}
+
+template <int D>
+void StateSnapshot<D>::restore(Simulation<D>& sim) const {
+  const auto& fields = sim.store().fields();
+  for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
+    const auto& f = fields[k];
+    if (!f->flags().checkpointed || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
+    if (!buffers_[k].empty()) std::memcpy(f->raw(), buffers_[k].data(), buffers_[k].size());
+  }
+  sim.set_clock(time_, step_);
+  sim.set_dt(dt_);
+  sim.integrator().restore_state(integrator_state_);
+}
+
+template <int D>
+std::size_t StateSnapshot<D>::bytes() const {
+  std::size_t b = 0;
+  for (const auto& v : buffers_) b += v.size();
+  return b;
+}
+
+template void restore_from_checkpoint<2>(Simulation<2>&, const io::Checkpoint&, const std::string&);
+template void restore_from_checkpoint<3>(Simulation<3>&, const io::Checkpoint&, const std::string&);
+template io::CheckpointHeader checkpoint_header<2>(Simulation<2>&, const nlohmann::json&);
+template io::CheckpointHeader checkpoint_header<3>(Simulation<3>&, const nlohmann::json&);
+template class StateSnapshot<2>;
+template class StateSnapshot<3>;
+
+}  // namespace varsph
