@@ -1,5 +1,6 @@
 // Integrator selection by name, once at setup.
 #include "core/errors.hpp"
+#include "integrators/variational.hpp"
 #include "integrators/verlet.hpp"
 
 namespace varsph {
@@ -7,8 +8,9 @@ namespace varsph {
 template <int D>
 std::unique_ptr<Integrator<D>> make_integrator(const scene::Scene& s) {
   if (s.integrator == "verlet") return std::make_unique<VerletIntegrator<D>>();
+  if (s.integrator == "variational") return std::make_unique<VariationalIntegrator<D>>(s);
   throw InputError(s.file.string() + ": key 'integrator.type': \"" + s.integrator +
-                   "\" is not available in this build (available: \"verlet\")");
+                   "\" is not available in this build (available: \"verlet\", \"variational\")");
 }
 
 template std::unique_ptr<Integrator<2>> make_integrator<2>(const scene::Scene&);

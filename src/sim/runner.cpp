@@ -68,8 +68,24 @@ class Runner {
     const long start_step = sim.step();
 
     while (sim.time() < scene_.t_end - 0.5 * sim.dt()) {
-      const StepReport& rep = sim.advance();
+      StepReport rep;
+      try {
+        rep = sim.advance();
+      } catch (const NumericalError& e) {  // e.g. a fixed point that did not converge (on_failure = fail)
+        // the integrator left the state at the last accepted step: write it as the last good frame
+        if (!last_frame_at_current_) write_frame(sim);
+        failure = std::string(e.what()) + ". The last good frame is " + last_frame_name_;
+        exit_code = kExitNumerical;
+        break;
+      }
       accumulate(rep);
+      if (rep.dt_bound > 0 && sim.dt() > rep.dt_bound && !warned_dt_bound_) {
+        warned_dt_bound_ = true;
+        std::fprintf(stderr,
+                     "varsph: warning: dt = %.3g s exceeds the fixed-point bound of eq. (54), about %.3g s "
+                     "(step %ld); iterations may stop converging\n",
+                     sim.dt(), rep.dt_bound, sim.step());
+      }
       last_frame_at_current_ = false;
       if (const std::string bad = check_health(sim); !bad.empty()) {
         failure = "numerical failure at step " + std::to_string(sim.step()) + ", t = " + std::to_string(sim.time()) +
@@ -204,6 +220,7 @@ class Runner {
   std::chrono::steady_clock::time_point t0_;
   long frame_index_ = 0, steps_ = 0;
   bool last_frame_at_current_ = false;
+  bool warned_dt_bound_ = false;
   double particle_steps_ = 0;
   long fp_steps_ = 0, fp_iter_sum_ = 0;
   int fp_iter_max_ = 0;
