@@ -45,7 +45,8 @@ VariationalIntegrator<D>::VariationalIntegrator(const scene::Scene& s)
   summation_ = s.density == "summation";
   // alpha = 0: a1 sits at q_k; it still depends on q_{k+1} through the viscosity (midpoint velocity
   // (q_{k+1} - q_k)/dt) and the continuity density (eq. 67), so only this case is explicit.
-  explicit_ = alpha_ == 1.0 || (alpha_ == 0.0 && summation_ && !s.artificial_viscosity);
+  const bool viscous = s.artificial_viscosity && (s.av_alpha > 0 || s.av_beta > 0);
+  explicit_ = alpha_ == 1.0 || (alpha_ == 0.0 && summation_ && !viscous);
 }
 
 template <int D>
@@ -73,24 +74,42 @@ void VariationalIntegrator<D>::initialize(Simulation<D>& sim) {
   register_fields(sim);
   const auto& p = sim.params();
   has_wall_ = p.boundary == physics::BoundaryModel::Repulsive && p.wall_D > 0;
-  fluid_rates_ = physics::make_rates<D>(without_wall(p));
+  if (explicit_) {
+    // alpha = 0 explicit: a1 sits at q_k like Gamma_k, so the wall force stays in the same pass; the
+    // step is then the Verlet step with summation density, bit for bit.
+    has_wall_ = false;
+    fluid_rates_ = physics::make_rates<D>(p);
+  } else {
+    fluid_rates_ = physics::make_rates<D>(without_wall(p));
+  }
   if (has_wall_) wall_ = std::make_unique<physics::RepulsiveWall>(p.wall_D, p.wall_r0, p.wall_n1, p.wall_n2);
   // Skin: 5 % of the support radius to start; ensure_skin() widens it whenever a configuration to be
   // evaluated would move a particle by more than skin/2 from the binned q_k.
+  dt_prev_ = sim.dt();
+  if (explicit_) return;  // a2 has weight 0 and every pass sits at q_k: no skin needed
   sim.set_skin(Real(0.05) * sim.rates().support());
   sim.sort_and_bin();
-  dt_prev_ = sim.dt();
   rebuild_previous(sim, 0.0, sim.dt());  // rho_{-1,0} and a2 at (1-alpha) q_{-1} + alpha q_0
-  if (!explicit_) last_bound_ = estimate_dt_bound(sim);
+  last_bound_ = estimate_dt_bound(sim);
 }
 
 template <int D>
-void VariationalIntegrator<D>::ensure_skin(Simulation<D>& sim, Real displacement) {
+bool VariationalIntegrator<D>::ensure_skin(Simulation<D>& sim, Real displacement) {
   // A pair closer than the support in a configuration whose particles moved <= d from the binned one
   // was closer than support + 2 d when binned: cells of support + skin cover it if d <= skin / 2.
-  if (Real(2) * displacement <= sim.skin()) return;
-  sim.set_skin(std::max(Real(2) * sim.skin(), Real(4) * displacement));
-  sim.sort_and_bin();  // every registered field (scratch included) follows the permutation
+  if (Real(2) * displacement <= sim.skin()) return true;
+  const Real old = sim.skin();
+  for (const Real skin : {std::max(Real(2) * old, Real(4) * displacement), Real(2.0001) * displacement}) {
+    try {
+      sim.set_skin(skin);
+      sim.sort_and_bin();  // every registered field (scratch included) follows the permutation
+      return true;
+    } catch (const InputError&) {  // cells too large for a (periodic) domain: the step moves too far
+    }
+  }
+  sim.set_skin(old);
+  sim.sort_and_bin();
+  return false;
 }
 
 template <int D>
@@ -101,7 +120,7 @@ Real VariationalIntegrator<D>::make_midpoint(Simulation<D>& sim, std::span<const
   for (std::size_t i = 0; i < n; ++i)
     if (f.kind[i] == 0) vmax = std::max(vmax, v[i].squaredNorm());
   const Real shift = std::abs(s) * std::sqrt(vmax);
-  ensure_skin(sim, shift);
+  if (!std::isfinite(shift) || !ensure_skin(sim, shift)) return -1;
   Vec<D>* m = mid_->data.data();
   const Vec<D>* x = f.x.data.data();
   const std::int32_t* kind = f.kind.data.data();
@@ -151,16 +170,19 @@ void VariationalIntegrator<D>::compute_gamma(Simulation<D>& sim) {
 template <int D>
 void VariationalIntegrator<D>::rebuild_previous(Simulation<D>& sim, double dt_old, double dt_new) {
   auto& f = sim.fields();
-  make_midpoint(sim, f.v.data, Real(-(1 - alpha_) * dt_new));  // (1-alpha) q_{k-1} + alpha q_k
+  if (make_midpoint(sim, f.v.data, Real(-(1 - alpha_) * dt_new)) < 0)  // (1-alpha) q_{k-1} + alpha q_k
+    throw NumericalError("variational: at t = " + std::to_string(sim.time()) +
+                         " s the previous interval's midpoint moves particles farther than the neighbour grid "
+                         "can cover (dt " + std::to_string(dt_new) + " s too large)");
   eval_midpoint(sim, f.v.data, Real((1 - alpha_) * (dt_old - dt_new)), a2_->data.data());
   std::copy(rho1_->data.begin(), rho1_->data.end(), f.rho.data.begin());
   std::copy(p1_->data.begin(), p1_->data.end(), f.p.data.begin());
 }
 
 template <int D>
-void VariationalIntegrator<D>::apply_F(Simulation<D>& sim, Real dt, std::span<const Vec<D>> v_in, Vec<D>* v_out) {
+bool VariationalIntegrator<D>::apply_F(Simulation<D>& sim, Real dt, std::span<const Vec<D>> v_in, Vec<D>* v_out) {
   auto& f = sim.fields();
-  make_midpoint(sim, v_in, Real(alpha_) * dt);  // (1-alpha) q_k + alpha q_{k+1}, eq. (20)-(21)
+  if (make_midpoint(sim, v_in, Real(alpha_) * dt) < 0) return false;  // (1-alpha) q_k + alpha q_{k+1}, eq. (20)-(21)
   eval_midpoint(sim, v_in, dt, a1_->data.data());
   const Real w1 = Real(1 - alpha_), w2 = Real(alpha_);
   const Vec<D>* v = f.v.data.data();
@@ -172,6 +194,7 @@ void VariationalIntegrator<D>::apply_F(Simulation<D>& sim, Real dt, std::span<co
     // eq. (63) in velocity form: v_{k+1/2} = v_{k-1/2} + dt [(1-alpha) a1 + alpha a2 + Gamma_k]
     v_out[i] = kind[i] == 0 ? Vec<D>(v[i] + dt * (w1 * a1[i] + w2 * a2[i] + g[i])) : v[i];
   });
+  return true;
 }
 
 template <int D>
@@ -181,9 +204,10 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
   rep = {};
   residuals_.clear();
   if (explicit_) {  // alpha = 0, summation, no viscosity: a1 at q_k does not depend on q_{k+1}
-    apply_F(sim, dt, f.v.data, vnew_->data.data());
     rep.iterations = 1;
-    return true;
+    if (apply_F(sim, dt, f.v.data, vnew_->data.data())) return true;
+    history = "a1 at q_k could not be evaluated";
+    return false;
   }
   {  // explicit predictor q_{k+1;0} = 2 q_k - q_{k-1} + dt^2 (a2 + Gamma_k) (a1 taken as a2)
     Vec<D>* vi = vit_->data.data();
@@ -195,8 +219,13 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
   }
   int diverging = 0;
   double prev = 0;
+  bool too_far = false;
   for (int j = 1; j <= max_it_; ++j) {
-    apply_F(sim, dt, vit_->data, vnew_->data.data());  // q_{k+1;j} = F(q_{k+1;j-1}, q_k, q_{k-1}), eq. (40)
+    // q_{k+1;j} = F(q_{k+1;j-1}, q_k, q_{k-1}), eq. (40)
+    if (!apply_F(sim, dt, vit_->data, vnew_->data.data())) {
+      too_far = true;
+      break;
+    }
     double r2 = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (f.kind[i] == 0) r2 = std::max(r2, double((vnew_->data[i] - vit_->data[i]).squaredNorm()));
@@ -218,7 +247,8 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
   }
   std::ostringstream o;
   o.precision(3);
-  o << (diverging >= kDivergenceWindow ? "fixed point diverging (contraction >= 1 for " +
+  o << (too_far ? std::string("fixed-point iterate moves particles farther than the neighbour grid can cover")
+      : diverging >= kDivergenceWindow ? "fixed point diverging (contraction >= 1 for " +
                                              std::to_string(kDivergenceWindow) + " iterations)"
                                        : "fixed point not converged in " + std::to_string(max_it_) + " iterations")
     << " (alpha " << alpha_ << ", dt " << dt << " s, tolerance " << tol_ << " m); residuals [m]:";
@@ -236,7 +266,7 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
   auto& f = sim.fields();
   const std::size_t n = sim.size();
   double dt = sim.choose_dt() / double(1L << halvings_);
-  if (dt != dt_prev_) rebuild_previous(sim, dt_prev_, dt);  // regrowth, CFL change, restart
+  if (dt != dt_prev_ && !explicit_) rebuild_previous(sim, dt_prev_, dt);  // regrowth, CFL change, restart
   sim.set_dt(dt);
   compute_gamma(sim);
   StepReport rep;
@@ -309,13 +339,13 @@ double VariationalIntegrator<D>::estimate_contraction(Simulation<D>& sim) {
     Real vmax = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (f.kind[i] == 0) vmax = std::max(vmax, (f.v[i] + dt * (a2_->data[i] + gamma_->data[i])).norm());
-    ensure_skin(sim, Real(1.1) * Real(alpha_) * dt * vmax + Real(1e-9) * Real(sim.scene().spacing));
+    if (!ensure_skin(sim, Real(1.1) * Real(alpha_) * dt * vmax + Real(1e-9) * Real(sim.scene().spacing))) return 0;
   }
   std::vector<Vec<D>> v0(n), base(n), dir(n);  // setup-time only
   for (std::size_t i = 0; i < n; ++i)
     v0[i] = f.kind[i] == 0 ? Vec<D>(f.v[i] + dt * (a2_->data[i] + gamma_->data[i])) : f.v[i];
   vit_->data = v0;
-  apply_F(sim, dt, vit_->data, vnew_->data.data());
+  if (!apply_F(sim, dt, vit_->data, vnew_->data.data())) return 0;
   base = vnew_->data;
   // power iteration on d -> F(q + d) - F(q) in the max norm; deterministic start
   const Real eps = Real(1e-6) * Real(sim.scene().spacing) / dt;  // velocity perturbation (dt eps = 1e-6 dx)
@@ -331,7 +361,7 @@ double VariationalIntegrator<D>::estimate_contraction(Simulation<D>& sim) {
       vit_->data[i] = v0[i] + dir[i];
       dmax = std::max(dmax, double(dir[i].norm()));
     }
-    apply_F(sim, dt, vit_->data, vnew_->data.data());
+    if (!apply_F(sim, dt, vit_->data, vnew_->data.data())) return 0;
     for (std::size_t i = 0; i < n; ++i) {
       dir[i] = vnew_->data[i] - base[i];
       omax = std::max(omax, double(dir[i].norm()));
@@ -356,7 +386,7 @@ void VariationalIntegrator<D>::fresh_a2(Simulation<D>& sim, std::vector<Vec<D>>&
   // comes from the stored rho_{k-1,k} (summation scenes recompute it).
   auto& f = sim.fields();
   out.resize(sim.size());
-  make_midpoint(sim, f.v.data, Real(-(1 - alpha_) * dt_prev_));
+  if (make_midpoint(sim, f.v.data, Real(-(1 - alpha_) * dt_prev_)) < 0) throw NumericalError("fresh_a2: skin");
   eval_midpoint(sim, f.v.data, Real(0), out.data());
 }
 

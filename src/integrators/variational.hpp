@@ -61,8 +61,9 @@ class VariationalIntegrator final : public Integrator<D> {
     Real max_shift;  // largest fluid displacement of the evaluated configuration from x
   };
   void register_fields(Simulation<D>& sim);
-  void ensure_skin(Simulation<D>& sim, Real displacement);
-  // Midpoint configuration x + s v (fluid only) into mid_.
+  // Widens the skin (and re-bins) when needed; false when the grid cannot cover the displacement.
+  bool ensure_skin(Simulation<D>& sim, Real displacement);
+  // Midpoint configuration x + s v (fluid only) into mid_; returns the largest shift, < 0 if uncoverable.
   Real make_midpoint(Simulation<D>& sim, std::span<const Vec<D>> v, Real s);
   // Densities, pressures and fluid accelerations (no Gamma) at mid_ with velocities v; density from
   // rho_base + dt_rho * drho (continuity) or by summation.
@@ -74,7 +75,7 @@ class VariationalIntegrator final : public Integrator<D> {
   // One fixed-point solve for the step dt; true when converged (or explicit / fixed count).
   bool solve(Simulation<D>& sim, Real dt, StepReport& rep, std::string& history);
   // F applied to the velocity iterate v_in -> v_out (one evaluation of a1).
-  void apply_F(Simulation<D>& sim, Real dt, std::span<const Vec<D>> v_in, Vec<D>* v_out);
+  bool apply_F(Simulation<D>& sim, Real dt, std::span<const Vec<D>> v_in, Vec<D>* v_out);
 
   double alpha_;
   double tol_;  // [m]
