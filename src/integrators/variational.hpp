@@ -32,6 +32,7 @@ class VariationalIntegrator final : public Integrator<D> {
   explicit VariationalIntegrator(const scene::Scene& s);
   const char* name() const override { return "variational"; }
   bool implicit() const override { return true; }
+  double dt_bound() const override { return last_bound_; }
   void initialize(Simulation<D>& sim) override;
   StepReport step(Simulation<D>& sim) override;
   nlohmann::json save_state() const override;

@@ -67,6 +67,7 @@ class Runner {
     int exit_code = kExitOk;
     const long start_step = sim.step();
 
+    warn_dt_bound(sim.dt(), sim.integrator().dt_bound(), 0);  // on the initial state (eq. 54 estimate)
     while (sim.time() < scene_.t_end - 0.5 * sim.dt()) {
       StepReport rep;
       try {
@@ -79,13 +80,7 @@ class Runner {
         break;
       }
       accumulate(rep);
-      if (rep.dt_bound > 0 && sim.dt() > rep.dt_bound && !warned_dt_bound_) {
-        warned_dt_bound_ = true;
-        std::fprintf(stderr,
-                     "varsph: warning: dt = %.3g s exceeds the fixed-point bound of eq. (54), about %.3g s "
-                     "(step %ld); iterations may stop converging\n",
-                     sim.dt(), rep.dt_bound, sim.step());
-      }
+      warn_dt_bound(sim.dt(), rep.dt_bound, sim.step());
       last_frame_at_current_ = false;
       if (const std::string bad = check_health(sim); !bad.empty()) {
         failure = "numerical failure at step " + std::to_string(sim.step()) + ", t = " + std::to_string(sim.time()) +
@@ -139,6 +134,15 @@ class Runner {
  private:
   static double seconds_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  }
+
+  void warn_dt_bound(double dt, double bound, long step) {
+    if (bound <= 0 || dt <= bound || warned_dt_bound_) return;
+    warned_dt_bound_ = true;
+    std::fprintf(stderr,
+                 "varsph: warning: dt = %.3g s exceeds the fixed-point bound of eq. (54), about %.3g s (step %ld); "
+                 "the iterations may stop converging\n",
+                 dt, bound, step);
   }
 
   void accumulate(const StepReport& r) {
