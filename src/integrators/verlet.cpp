@@ -7,7 +7,7 @@ namespace varsph {
 template <int D>
 void VerletIntegrator<D>::initialize(Simulation<D>& sim) {
   auto& f = sim.fields();
-  const Vec<D> half_dt_g = Real(0.5 * sim.dt()) * sim.params().gravity;
+  const Vec<D> half_dt_g = Real(0.5 * sim.dt()) * sim.rates().body_acceleration();  // g(0): ramp, body force
   for (std::size_t i = 0; i < sim.size(); ++i)
     if (f.kind[i] == 0) f.v[i] -= half_dt_g;  // v(-1/2) = v(0) - dt g / 2
 }
@@ -22,11 +22,21 @@ StepReport VerletIntegrator<D>::step(Simulation<D>& sim) {
   Vec<D>* v = f.v.data.data();
   const Vec<D>* a = f.a.data.data();
   const std::int32_t* kind = f.kind.data.data();
-  for_each_particle(sim.size(), [&](std::size_t i) {
-    if (kind[i] != 0) return;
-    v[i] += dt * a[i];  // eq. (61)
-    x[i] += dt * v[i];  // eq. (62)
-  });
+  if (!sim.xsph_enabled()) {
+    for_each_particle(sim.size(), [&](std::size_t i) {
+      if (kind[i] != 0) return;
+      v[i] += dt * a[i];  // eq. (61)
+      x[i] += dt * v[i];  // eq. (62)
+    });
+  } else {
+    for_each_particle(sim.size(), [&](std::size_t i) {
+      if (kind[i] == 0) v[i] += dt * a[i];  // eq. (61)
+    });
+    const Vec<D>* dv = sim.compute_xsph();  // XSPH (Monaghan 1989) from v_{k+1/2} at q_k
+    for_each_particle(sim.size(), [&](std::size_t i) {
+      if (kind[i] == 0) x[i] += dt * (v[i] + dv[i]);  // eq. (62) with the XSPH velocity
+    });
+  }
   sim.sort_and_bin();
   sim.update_density_after_move(dt);
   return {};

@@ -9,10 +9,12 @@ namespace varsph::physics {
 
 struct NoViscosity {
   static constexpr bool enabled = false;
+  static constexpr bool artificial = false, laminar = false;
 };
 
 struct ArtificialViscosity {
   static constexpr bool enabled = true;
+  static constexpr bool artificial = true, laminar = false;
   Real alpha, beta, c0, h, eps_h2;
   ArtificialViscosity(Real alpha_, Real beta_, Real c0_, Real h_, Real eps = Real(0.01))
       : alpha(alpha_), beta(beta_), c0(c0_), h(h_), eps_h2(eps * h_ * h_) {}

@@ -17,6 +17,9 @@ struct ParticleView {
   std::span<const Real> p;
   std::span<const Real> mass;
   std::span<const std::int32_t> kind;
+  // Velocities boundary particles show to viscosity (dummy/Adami walls: 2 v_wall - v_extrapolated);
+  // empty = use v (walls at their prescribed velocity).
+  std::span<const Vec<D>> wall_v = {};
   std::size_t size() const { return x.size(); }
 };
 

@@ -1,36 +1,51 @@
 #pragma once
 // The pair passes, each a functor for for_each_particle_pairs, composed at compile time from the
-// kernel, the viscosity term and the wall model a scene names: a term that is off is not compiled in.
+// kernel, the viscosity policy, the wall model and the density-diffusion policy a scene names: a term
+// that is off is not compiled in. Optional terms that need their own loop (XSPH, artificial stress, the
+// dummy-wall extrapolation) are separate passes, run only when named.
 #include <cstdint>
 
 #include "core/real.hpp"
+#include "physics/artificial_stress.hpp"
 #include "physics/artificial_viscosity.hpp"
+#include "physics/density_diffusion.hpp"
+#include "physics/eos.hpp"
+#include "physics/laminar_viscosity.hpp"
 #include "physics/particle_view.hpp"
 #include "physics/physics_params.hpp"
 #include "physics/repulsive_wall.hpp"
+#include "physics/soft_repulsive_wall.hpp"
 
 namespace varsph::physics {
 
 constexpr std::int32_t kFluid = 0;
 constexpr std::int32_t kBoundary = 1;
 
-// Does a boundary particle j count as a fluid-like neighbour (density, pressure)?
+// Do boundary particles count as fluid-like neighbours of fluid particles (density, pressure)?
 template <BoundaryModel M>
-constexpr bool walls_in_continuum = (M == BoundaryModel::Dynamic);
+constexpr bool walls_in_continuum = (M != BoundaryModel::Repulsive);
+// Do boundary particles evolve their own density (continuity / summation)? Only dynamic walls (Crespo
+// 2007); dummy walls get theirs from the fluid (AdamiWallPass).
+template <BoundaryModel M>
+constexpr bool walls_evolve_density = (M == BoundaryModel::Dynamic);
 
 // Continuity equation with the standard sign (PAPER-NOTES.md on seed eq. 67-68; Monaghan 1992):
-// drho_i/dt = sum_j m_j (v_i - v_j) . grad_i W_ij
-template <int D, class Kernel, BoundaryModel M>
+// drho_i/dt = sum_j m_j (v_i - v_j) . grad_i W_ij  [+ density diffusion, fluid-fluid pairs]
+template <int D, class Kernel, BoundaryModel M, class Diffusion = NoDensityDiffusion>
 struct DensityRatePass {
   const Kernel& W;
   const ParticleView<D>& s;
   Real* drho;
-  bool active(std::size_t i) const { return s.kind[i] == kFluid || walls_in_continuum<M>; }
+  Diffusion diff{};
+  bool active(std::size_t i) const { return s.kind[i] == kFluid || walls_evolve_density<M>; }
   Real begin(std::size_t) const { return Real(0); }
   void pair(Real& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     if constexpr (!walls_in_continuum<M>)
       if (s.kind[j] != kFluid) return;
-    acc += s.mass[j] * W.grad_factor_r2(r2) * (s.v[i] - s.v[j]).dot(xij);
+    const Real F = W.grad_factor_r2(r2);
+    acc += s.mass[j] * F * (s.v[i] - s.v[j]).dot(xij);
+    if constexpr (Diffusion::enabled)
+      if (s.kind[i] == kFluid && s.kind[j] == kFluid) acc += diff.term(s.rho[i], s.rho[j], s.mass[j], F, xij);
   }
   void end(std::size_t i, Real acc) const { drho[i] = acc; }
 };
@@ -41,7 +56,7 @@ struct SummationDensityPass {
   const Kernel& W;
   const ParticleView<D>& s;
   Real* rho;
-  bool active(std::size_t i) const { return s.kind[i] == kFluid || walls_in_continuum<M>; }
+  bool active(std::size_t i) const { return s.kind[i] == kFluid || walls_evolve_density<M>; }
   Real begin(std::size_t i) const { return s.mass[i] * W.w_r2(Real(0)); }
   void pair(Real& acc, std::size_t, std::size_t j, const Vec<D>&, Real r2) const {
     if constexpr (!walls_in_continuum<M>)
@@ -51,8 +66,10 @@ struct SummationDensityPass {
   void end(std::size_t i, Real acc) const { rho[i] = acc; }
 };
 
-// Acceleration of fluid particles: symmetric pressure term (seed eq. 38), artificial viscosity
-// (Monaghan 1992, see artificial_viscosity.hpp), repulsive wall force (eq. 58) and gravity (eq. 59).
+// Acceleration of fluid particles: symmetric pressure term (seed eq. 38), the viscosity policy
+// (Monaghan 1992 artificial viscosity, Morris 1997 laminar viscosity, both or none), the wall model
+// (eq. 58 repulsive; dynamic / dummy walls as pressure particles; dummy + Chalk 2020 soft force) and
+// the body acceleration (gravity eq. 59, ramped, plus physics.body_force).
 template <int D, class Kernel, class Viscosity, BoundaryModel M>
 struct AccelerationPass {
   const Kernel& W;
@@ -61,7 +78,9 @@ struct AccelerationPass {
   const ParticleView<D>& s;
   Vec<D> gravity;
   Vec<D>* acc_out;
-  const Real* p_over_rho2;  // p / rho^2 per particle, computed once per pass (not per pair)
+  const SoftRepulsiveWall* soft = nullptr;  // used only when M == SoftRepulsive
+  const Real* p_over_rho2 = nullptr;        // p / rho^2 per particle, computed once per pass (not per pair)
+  const Vec<D>* vw = s.wall_v.empty() ? s.v.data() : s.wall_v.data();
   struct Acc {
     Vec<D> a;
     Real p_over_rho2;
@@ -70,15 +89,22 @@ struct AccelerationPass {
   Acc begin(std::size_t i) const { return {Vec<D>::Zero(), p_over_rho2[i]}; }
   void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     const bool j_fluid = s.kind[j] == kFluid;
-    if (!j_fluid) {
-      if constexpr (M == BoundaryModel::Repulsive) {
+    if constexpr (M == BoundaryModel::Repulsive) {
+      if (!j_fluid) {
         acc.a += wall.factor(r2) * xij;  // eq. (58)
         return;
       }
     }
+    if constexpr (M == BoundaryModel::SoftRepulsive)
+      if (!j_fluid) acc.a += soft->factor(r2) * xij;  // Chalk 2020
     const Real F = W.grad_factor_r2(r2);  // grad_i W_ij = F x_ij
     Real coef = acc.p_over_rho2 + p_over_rho2[j];
-    if constexpr (Viscosity::enabled) coef += visc.pi((s.v[i] - s.v[j]).dot(xij), r2, s.rho[i], s.rho[j]);
+    if constexpr (Viscosity::enabled) {
+      const Vec<D> vij = s.v[i] - ((M == BoundaryModel::Repulsive || j_fluid) ? s.v[j] : vw[j]);
+      if constexpr (Viscosity::artificial) coef += visc.pi(vij.dot(xij), r2, s.rho[i], s.rho[j]);
+      if constexpr (Viscosity::laminar)
+        acc.a += visc.laminar_factor(s.mass[j], F, r2, s.rho[i], s.rho[j]) * vij;  // Morris 1997
+    }
     acc.a -= (s.mass[j] * coef * F) * xij;
   }
   void end(std::size_t i, const Acc& acc) const { acc_out[i] = acc.a + gravity; }
@@ -102,6 +128,93 @@ struct BoundaryReactionPass {
     f -= s.mass[i] * a.a;
   }
   void end(std::size_t b, const Vec<D>& f) const { force[b] = f; }
+};
+
+// Monaghan (2000) artificial stress, added to existing accelerations (fluid-fluid pairs).
+template <int D, class Kernel>
+struct ArtificialStressPass {
+  const Kernel& W;
+  const ArtificialStress& as;
+  const ParticleView<D>& s;
+  Vec<D>* acc_out;
+  bool active(std::size_t i) const { return s.kind[i] == kFluid; }
+  Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
+  void pair(Vec<D>& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
+    if (s.kind[j] != kFluid) return;
+    const Real Rij = as.R(s.p[i], s.rho[i]) + as.R(s.p[j], s.rho[j]);
+    if (Rij == Real(0)) return;
+    acc -= (s.mass[j] * as.f_pow(W.w_r2(r2)) * Rij * W.grad_factor_r2(r2)) * xij;
+  }
+  void end(std::size_t i, const Vec<D>& acc) const { acc_out[i] += acc; }
+};
+
+// XSPH velocity correction, Monaghan (1989): dx_i/dt = v_i + eps sum_j m_j / rho_ij (v_j - v_i) W_ij,
+// rho_ij = (rho_i + rho_j)/2, fluid neighbours. (The foundation notes write grad W; that is not a velocity.)
+template <int D, class Kernel>
+struct XsphPass {
+  const Kernel& W;
+  const ParticleView<D>& s;
+  Real eps;
+  Vec<D>* out;
+  bool active(std::size_t i) const { return s.kind[i] == kFluid; }
+  Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
+  void pair(Vec<D>& acc, std::size_t i, std::size_t j, const Vec<D>&, Real r2) const {
+    if (s.kind[j] != kFluid) return;
+    acc += (Real(2) * s.mass[j] / (s.rho[i] + s.rho[j]) * W.w_r2(r2)) * (s.v[j] - s.v[i]);
+  }
+  void end(std::size_t i, const Vec<D>& acc) const { out[i] = eps * acc; }
+};
+
+// Dummy-wall extrapolation of Adami, Hu & Adams (2012), eq. (27) and (22)-(23), on boundary particles w:
+//   p_w = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f x_wf W_wf) / sum_f W_wf,  rho_w = EOS^-1(p_w),
+//   v~_w = sum_f v_f W_wf / sum_f W_wf;  no-slip: v_w = 2 v_wall - v~_w (Adami's rule);
+//   free-slip: tangential part of v~_w - v_wall kept, normal part mirrored.
+// a_w (wall acceleration) is taken as zero: prescribed wall motion sets v_wall only.
+template <int D, class Kernel>
+struct AdamiWallPass {
+  const Kernel& W;
+  const ParticleView<D>& s;
+  const Vec<D>* normal;
+  Vec<D> g;
+  TaitEos eos;
+  bool free_slip;
+  Real* p_out;
+  Real* rho_out;
+  Vec<D>* vw_out;
+  struct Acc {
+    Real sw, spw;
+    Vec<D> srx, sv;
+  };
+  bool active(std::size_t i) const { return s.kind[i] != kFluid; }
+  Acc begin(std::size_t) const { return {Real(0), Real(0), Vec<D>::Zero(), Vec<D>::Zero()}; }
+  void pair(Acc& acc, std::size_t, std::size_t j, const Vec<D>& xwf, Real r2) const {
+    if (s.kind[j] != kFluid) return;
+    const Real w = W.w_r2(r2);
+    acc.sw += w;
+    acc.spw += s.p[j] * w;
+    acc.srx += (s.rho[j] * w) * xwf;
+    acc.sv += w * s.v[j];
+  }
+  void end(std::size_t i, const Acc& acc) const {
+    const Vec<D> vwall = s.v[i];
+    if (acc.sw <= Real(0)) {
+      p_out[i] = Real(0);
+      rho_out[i] = eos.rho0;
+      vw_out[i] = vwall;
+      return;
+    }
+    const Real inv = Real(1) / acc.sw;
+    const Real p = (acc.spw + g.dot(acc.srx)) * inv;  // Adami 2012 eq. (27)
+    p_out[i] = p;
+    rho_out[i] = p > -eos.B ? eos.density(p) : eos.rho0 * Real(1e-3);
+    const Vec<D> u = acc.sv * inv - vwall;  // extrapolated fluid velocity relative to the wall
+    if (!free_slip) {
+      vw_out[i] = vwall - u;  // Adami 2012 eq. (22)-(23)
+    } else {
+      const Vec<D>& n = normal[i];
+      vw_out[i] = vwall + u - (Real(2) * u.dot(n)) * n;
+    }
+  }
 };
 
 }  // namespace varsph::physics

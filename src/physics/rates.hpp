@@ -1,6 +1,7 @@
 #pragma once
 // Rates of change of the fluid state, one virtual call per pass (never per pair). The concrete class
-// is instantiated for the scene's kernel, viscosity and wall model by make_rates().
+// is instantiated for the scene's kernel; the viscosity, wall and density-diffusion policies are picked
+// once at construction (make_rates()), each combination a separately compiled pass.
 #include <memory>
 
 #include "neighbors/neighbor_grid.hpp"
@@ -13,16 +14,32 @@ template <int D>
 class Rates {
  public:
   virtual ~Rates() = default;
-  // drho/dt by continuity at configuration s.x with velocities s.v (standard sign).
+  // drho/dt by continuity at configuration s.x with velocities s.v (standard sign) [+ density diffusion].
   virtual void density_rate(const NeighborGrid<D>& grid, const ParticleView<D>& s, Real* drho) const = 0;
   // rho by summation, seed eq. (8).
   virtual void summation_density(const NeighborGrid<D>& grid, const ParticleView<D>& s, Real* rho) const = 0;
-  // accelerations of fluid particles (boundary particles untouched).
+  // accelerations of fluid particles (boundary particles untouched), with the named optional terms
+  // (artificial stress, damping) applied.
   virtual void acceleration(const NeighborGrid<D>& grid, const ParticleView<D>& s, Vec<D>* a) const = 0;
   // force of the fluid on every boundary particle (BoundaryReactionPass; fluid slots untouched) [N]
   virtual void boundary_reaction(const NeighborGrid<D>& grid, const ParticleView<D>& s, Vec<D>* force) const = 0;
   virtual Real support() const = 0;
   virtual Real kernel_w(Real r) const = 0;  // W(r), for probes and tests
+
+  // --- time-dependent and optional parts (toolbox) ---------------------------------------------
+  // Sets the time for the gravity ramp and the damping window (Simulation::advance, once per step).
+  virtual void set_time(double) {}
+  // Body acceleration in use now: ramped gravity + physics.body_force [m/s^2].
+  virtual Vec<D> body_acceleration() const = 0;
+  // Dummy (Adami) walls: writes p, rho and the viscous wall velocity of boundary particles from the
+  // fluid. Returns false (and writes nothing) for wall models without extrapolation.
+  virtual bool update_walls(const NeighborGrid<D>&, const ParticleView<D>&, const Vec<D>* /*normal*/,
+                            Real* /*p*/, Real* /*rho*/, Vec<D>* /*wall_v*/) const {
+    return false;
+  }
+  // XSPH velocity correction (zero-cost when physics.xsph is not named: xsph_enabled() false).
+  virtual bool xsph_enabled() const { return false; }
+  virtual void xsph(const NeighborGrid<D>&, const ParticleView<D>&, Vec<D>* /*out*/) const {}
 };
 
 template <int D>

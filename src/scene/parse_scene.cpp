@@ -166,7 +166,45 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
     s.av_eps = r.number("physics.artificial_viscosity.epsilon", 0.01, 1e-6, 1, "eta^2/h^2 regulariser");
   }
 
-  s.boundary_model = r.choice("boundary.model", "repulsive", {"repulsive", "dynamic"});
+  // --- physics toolbox terms (docs/physics.md): each off unless its key is present -------------------
+  const auto object_key = [&](const std::string& key, const std::string& expected) {
+    if (!r.has(key)) return false;
+    if (!r.raw(key)->is_object()) r.fail_got(key, expected, *r.raw(key));
+    r.mark_known(key);
+    return true;
+  };
+  if (object_key("physics.laminar_viscosity", "an object {nu [m^2/s]}")) {
+    s.laminar_viscosity = true;
+    s.nu = r.positive("physics.laminar_viscosity.nu", std::nullopt, "kinematic viscosity nu [m^2/s]");
+  }
+  s.body_force = r.vector("physics.body_force", d, std::vector<double>(d, 0.0), "body acceleration [m/s^2]");
+  if (object_key("physics.xsph", "an object {epsilon}"))
+    s.xsph_eps = r.number("physics.xsph.epsilon", 0.5, 0, 1, "XSPH epsilon in [0, 1]");
+  if (object_key("physics.damping", "an object {mu [1/s], until [s]}")) {
+    s.damping = true;
+    s.damping_mu = r.number("physics.damping.mu", std::nullopt, 0, kInf, "damping rate mu [1/s]");
+    s.damping_until = r.number("physics.damping.until", kInf, 0, kInf, "end of damping [s]");
+  }
+  if (object_key("physics.gravity_ramp", "an object {duration [s]}"))
+    s.gravity_ramp = r.positive("physics.gravity_ramp.duration", std::nullopt, "ramp duration T [s]");
+  if (object_key("physics.density_diffusion", "an object {type, delta}")) {
+    s.density_diffusion = r.choice("physics.density_diffusion.type", "molteni", {"none", "molteni", "fourtakas"});
+    s.diffusion_delta = r.number("physics.density_diffusion.delta", 0.1, 0, 1, "delta-SPH coefficient");
+    if (s.density != "continuity" && s.density_diffusion != "none")
+      r.fail("physics.density_diffusion", "physics.density = \"continuity\" (diffusion acts on the continuity equation)");
+  }
+  if (object_key("physics.tensile_instability", "an object {type, epsilon, n}")) {
+    s.tensile = r.choice("physics.tensile_instability.type", "artificial_stress", {"none", "artificial_stress"});
+    s.as_eps = r.number("physics.tensile_instability.epsilon", 0.2, 0, 10, "artificial stress epsilon");
+    s.as_n = r.number("physics.tensile_instability.n", 4, 1, 16, "exponent n of (W/W(dx))^n");
+  }
+
+  s.boundary_model =
+      r.choice("boundary.model", "repulsive", {"repulsive", "dynamic", "dummy_adami", "soft_repulsive"});
+  if (s.boundary_model == "dummy_adami" || s.boundary_model == "soft_repulsive")
+    s.wall_slip = r.choice("boundary.slip", "no_slip", {"no_slip", "free_slip"});
+  if (s.boundary_model == "soft_repulsive")
+    s.soft_wall_coef = r.positive("boundary.soft_repulsive.coefficient", 0.01, "force scale / c0^2 (Chalk 2020: 0.01)");
   {
     const double u2 = std::max(2 * g * fluid_height, 1e-12);
     const json* D = r.raw("boundary.repulsive.D");

@@ -58,10 +58,25 @@ struct Scene {
   bool artificial_viscosity = false;
   double av_alpha = 0, av_beta = 0, av_eps = 0.01;
 
+  // physics.* toolbox terms (docs/physics.md), each off unless named
+  bool laminar_viscosity = false;
+  double nu = 0;                         // physics.laminar_viscosity.nu [m^2/s]
+  std::vector<double> body_force;        // physics.body_force [m/s^2] (default zero)
+  double xsph_eps = 0;                   // physics.xsph.epsilon [-] (0 = off)
+  bool damping = false;
+  double damping_mu = 0, damping_until = 0;  // physics.damping.{mu [1/s], until [s]}
+  double gravity_ramp = 0;               // physics.gravity_ramp.duration [s] (0 = off)
+  std::string density_diffusion = "none";  // physics.density_diffusion.type: none | molteni | fourtakas
+  double diffusion_delta = 0.1;
+  std::string tensile = "none";          // physics.tensile_instability.type: none | artificial_stress
+  double as_eps = 0.2, as_n = 4;
+
   // boundary.*
-  std::string boundary_model = "repulsive";  // "repulsive" | "dynamic"
+  std::string boundary_model = "repulsive";  // "repulsive" | "dynamic" | "dummy_adami" | "soft_repulsive"
   double wall_D = 0, wall_r0 = 0;
   int wall_n1 = 12, wall_n2 = 4;
+  std::string wall_slip = "no_slip";  // boundary.slip (dummy_adami, soft_repulsive): no_slip | free_slip
+  double soft_wall_coef = 0.01;       // boundary.soft_repulsive.coefficient (force scale / c0^2)
 
   // integrator.*
   std::string integrator = "verlet";

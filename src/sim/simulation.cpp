@@ -30,6 +30,27 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
   p.wall_r0 = Real(s.wall_r0);
   p.wall_n1 = s.wall_n1;
   p.wall_n2 = s.wall_n2;
+  using physics::BoundaryModel;
+  if (s.boundary_model == "dummy_adami") p.boundary = BoundaryModel::DummyAdami;
+  if (s.boundary_model == "soft_repulsive") p.boundary = BoundaryModel::SoftRepulsive;
+  p.wall_slip = s.wall_slip == "free_slip" ? physics::WallSlip::FreeSlip : physics::WallSlip::NoSlip;
+  p.soft_wall_coef = Real(s.soft_wall_coef);
+  p.dx = Real(s.spacing);
+  p.laminar_viscosity = s.laminar_viscosity;
+  p.nu = Real(s.nu);
+  for (int a = 0; a < D && a < int(s.body_force.size()); ++a) p.body_force[a] = Real(s.body_force[a]);
+  p.xsph_eps = Real(s.xsph_eps);
+  p.damping = s.damping;
+  p.damping_mu = Real(s.damping_mu);
+  p.damping_until = Real(std::min(s.damping_until, 1e300));
+  p.gravity_ramp = Real(s.gravity_ramp);
+  p.diffusion = s.density_diffusion == "molteni"     ? physics::DensityDiffusion::Molteni
+                : s.density_diffusion == "fourtakas" ? physics::DensityDiffusion::Fourtakas
+                                                     : physics::DensityDiffusion::None;
+  p.diffusion_delta = Real(s.diffusion_delta);
+  p.tensile = s.tensile == "artificial_stress" ? physics::TensileFix::ArtificialStress : physics::TensileFix::None;
+  p.as_eps = Real(s.as_eps);
+  p.as_n = Real(s.as_n);
   return p;
 }
 
@@ -57,6 +78,11 @@ Simulation<D>::Simulation(const scene::Scene& scene)
     f_.normal[i] = init.normal[i];
     f_.body[i] = i < init.body.size() ? std::int32_t(init.body[i]) : -1;
   }
+  if (params_.boundary == physics::BoundaryModel::DummyAdami ||
+      params_.boundary == physics::BoundaryModel::SoftRepulsive)
+    wall_v_ = &store_.add<Vec<D>>("wall_velocity", {.exported = true});  // checkpointed: restarts stay bitwise
+  if (rates_->xsph_enabled())
+    xsph_ = &store_.add<Vec<D>>("xsph_velocity", {.exported = true, .checkpointed = false});
   n_fluid_ = init.count(0);
   n_boundary_ = init.count(1);
 
@@ -115,7 +141,16 @@ void Simulation<D>::sort_and_bin() {
 
 template <int D>
 physics::ParticleView<D> Simulation<D>::current_view() const {
-  return {f_.x.data, f_.v.data, f_.rho.data, f_.p.data, f_.mass.data, f_.kind.data};
+  physics::ParticleView<D> v{f_.x.data, f_.v.data, f_.rho.data, f_.p.data, f_.mass.data, f_.kind.data};
+  if (wall_v_) v.wall_v = wall_v_->data;
+  return v;
+}
+
+template <int D>
+Vec<D>* Simulation<D>::compute_xsph() {
+  if (!xsph_) return nullptr;
+  rates_->xsph(grid_, current_view(), xsph_->data.data());
+  return xsph_->data.data();
 }
 
 template <int D>
@@ -124,6 +159,9 @@ void Simulation<D>::update_pressure() {
   const Real* rho = f_.rho.data.data();
   const auto eos = eos_;
   for_each_particle(store_.size(), [&](std::size_t i) { p[i] = eos.pressure(rho[i]); });
+  // dummy walls (Adami 2012): boundary pressure, density and viscous velocity from the fluid
+  if (wall_v_)
+    rates_->update_walls(grid_, current_view(), f_.normal.data.data(), p, f_.rho.data.data(), wall_v_->data.data());
 }
 
 template <int D>
@@ -159,7 +197,9 @@ double Simulation<D>::cfl_dt() const {
   const double h = scene_.h;
   double dt = h / (scene_.c0 + vmax);
   if (amax > 0) dt = std::min(dt, std::sqrt(h / amax));
-  return C * dt;
+  dt *= C;
+  if (params_.laminar_viscosity) dt = std::min(dt, 0.125 * h * h / double(params_.nu));  // Morris 1997 eq. (10)
+  return dt;
 }
 
 template <int D>
@@ -169,6 +209,7 @@ double Simulation<D>::choose_dt() const {
 
 template <int D>
 const StepReport& Simulation<D>::advance() {
+  rates_->set_time(time_);  // gravity ramp, damping window
   report_ = integrator_->step(*this);
   ++step_;
   // fixed dt: t = t0 + k dt exactly as two runs with the same dt compute it (frames match by time)

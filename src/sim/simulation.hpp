@@ -91,6 +91,10 @@ class Simulation {
   physics::ParticleView<D> current_view() const;
   void update_pressure();                  // p = EOS(rho) for every particle
   void update_density_after_move(Real dt);  // continuity (rho += dt drho) or summation, then pressure
+  // XSPH (physics.xsph): whether named, and the correction of the current state into the registered
+  // field `xsph_velocity` (integrators drift with x += dt (v + correction)).
+  bool xsph_enabled() const { return xsph_ != nullptr; }
+  Vec<D>* compute_xsph();
   // dt for the next step from the scene's fixed dt or CFL rule, given the last accelerations.
   double choose_dt() const;
   void set_dt(double dt) { dt_ = dt; }
@@ -108,6 +112,8 @@ class Simulation {
   std::unique_ptr<physics::Rates<D>> rates_;
   std::unique_ptr<Integrator<D>> integrator_;
   std::vector<Field<Vec<D>>*> position_like_;
+  Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls: velocity boundary particles show to viscosity
+  Field<Vec<D>>* xsph_ = nullptr;    // XSPH correction
   std::vector<std::uint32_t> perm_;
   std::size_t n_fluid_ = 0, n_boundary_ = 0;
   Real skin_ = 0;

@@ -1,0 +1,190 @@
+#pragma once
+// RatesImpl<D, Kernel>: the compiled passes for one kernel. The viscosity x wall-model combination of
+// the acceleration pass and the wall-model x density-diffusion combination of the continuity pass are
+// chosen once (function pointers to separately instantiated passes), so the number of instantiations is
+// a sum over policies, not a product. Included only by the per-kernel translation units rates_<kernel>.cpp.
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "physics/pair_loop.hpp"
+#include "physics/passes.hpp"
+#include "physics/rates.hpp"
+
+namespace varsph::physics {
+
+template <int D, class Kernel>
+class RatesImpl final : public Rates<D> {
+ public:
+  RatesImpl(const PhysicsParams<D>& p, Kernel kernel)
+      : p_(p), W_(kernel), wall_(p.wall_D, p.wall_r0, p.wall_n1, p.wall_n2),
+        soft_(p.soft_wall_coef, p.c0, p.dx, p.h),
+        av_(p.av_alpha, p.av_beta, p.c0, p.h, p.av_eps), lam_(p.nu, p.h),
+        stress_(p.as_eps, W_.w_r2(p.dx * p.dx), p.as_n), eos_(p.rho0, p.c0) {
+    pick_acceleration();
+    pick_density();
+    set_time(0);
+  }
+
+  void density_rate(const NeighborGrid<D>& g, const ParticleView<D>& s, Real* drho) const override {
+    drho_fn_(*this, g, s, drho);
+  }
+  void summation_density(const NeighborGrid<D>& g, const ParticleView<D>& s, Real* rho) const override {
+    sum_fn_(*this, g, s, rho);
+  }
+  void acceleration(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) const override {
+    acc_fn_(*this, g, s, a);
+    if (p_.tensile == TensileFix::ArtificialStress) {
+      ArtificialStressPass<D, Kernel> pass{W_, stress_, s, a};
+      for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+    }
+    if (damping_on_) {
+      // viscous damping F = -mu v (foundation notes, "Alternative viscous damping term"), per particle
+      const Real mu = p_.damping_mu;
+      for_each_particle(s.size(), [&](std::size_t i) {
+        if (s.kind[i] == kFluid) a[i] -= mu * s.v[i];
+      });
+    }
+  }
+  void boundary_reaction(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* force) const override {
+    react_fn_(*this, g, s, force);
+  }
+  Real support() const override { return W_.support(); }
+  Real kernel_w(Real r) const override { return r < W_.support() ? W_.w_r2(r * r) : Real(0); }
+
+  void set_time(double t) override {
+    Real ramp = 1;
+    if (p_.gravity_ramp > 0 && t < double(p_.gravity_ramp))  // smooth ramp g (1 - cos(pi t/T)) / 2
+      ramp = Real(0.5 * (1.0 - std::cos(std::numbers::pi * t / double(p_.gravity_ramp))));
+    g_eff_ = ramp * p_.gravity + p_.body_force;
+    damping_on_ = p_.damping && t < double(p_.damping_until);
+  }
+  Vec<D> body_acceleration() const override { return g_eff_; }
+
+  bool update_walls(const NeighborGrid<D>& g, const ParticleView<D>& s, const Vec<D>* normal, Real* p, Real* rho,
+                    Vec<D>* vw) const override {
+    if (p_.boundary != BoundaryModel::DummyAdami && p_.boundary != BoundaryModel::SoftRepulsive) return false;
+    AdamiWallPass<D, Kernel> pass{W_, s, normal, g_eff_, eos_, p_.wall_slip == WallSlip::FreeSlip, p, rho, vw};
+    for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+    return true;
+  }
+  bool xsph_enabled() const override { return p_.xsph_eps > 0; }
+  void xsph(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* out) const override {
+    XsphPass<D, Kernel> pass{W_, s, p_.xsph_eps, out};
+    for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+  }
+
+ private:
+  using AccFn = void (*)(const RatesImpl&, const NeighborGrid<D>&, const ParticleView<D>&, Vec<D>*);
+  using RhoFn = void (*)(const RatesImpl&, const NeighborGrid<D>&, const ParticleView<D>&, Real*);
+
+  template <class Visc>
+  Visc viscosity() const {
+    if constexpr (std::is_same_v<Visc, NoViscosity>) return {};
+    else if constexpr (std::is_same_v<Visc, ArtificialViscosity>) return av_;
+    else if constexpr (std::is_same_v<Visc, LaminarViscosity>) return lam_;
+    else return Visc(av_, lam_);
+  }
+
+  // p / rho^2 of every particle, once per pass instead of once per pair (scratch grows once)
+  const Real* pressure_terms(const ParticleView<D>& s) const {
+    p_over_rho2_.resize(s.size());
+    Real* pr = p_over_rho2_.data();
+    for_each_particle(s.size(), [&](std::size_t i) { pr[i] = s.p[i] / (s.rho[i] * s.rho[i]); });
+    return pr;
+  }
+  template <class Visc, BoundaryModel M>
+  static void run_acc(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) {
+    const Visc visc = r.template viscosity<Visc>();
+    AccelerationPass<D, Kernel, Visc, M> pass{r.W_, visc, r.wall_, s, r.g_eff_, a, &r.soft_, r.pressure_terms(s)};
+    for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
+  }
+  // force of the fluid on boundary particles from the same pair terms (probes)
+  template <class Visc, BoundaryModel M>
+  static void run_react(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* f) {
+    const Visc visc = r.template viscosity<Visc>();
+    using Acc = AccelerationPass<D, Kernel, Visc, M>;
+    const Acc acc{r.W_, visc, r.wall_, s, r.g_eff_, nullptr, &r.soft_, r.pressure_terms(s)};
+    BoundaryReactionPass<D, Acc> pass{acc, s, f};
+    for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
+  }
+  template <BoundaryModel M, class Diff>
+  static void run_drho(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Real* drho) {
+    DensityRatePass<D, Kernel, M, Diff> pass{r.W_, s, drho, r.template diffusion<Diff>()};
+    for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
+  }
+  template <BoundaryModel M>
+  static void run_sum(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Real* rho) {
+    SummationDensityPass<D, Kernel, M> pass{r.W_, s, rho};
+    for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
+  }
+  template <class Diff>
+  Diff diffusion() const {
+    if constexpr (std::is_same_v<Diff, NoDensityDiffusion>) return {};
+    else if constexpr (std::is_same_v<Diff, MolteniDiffusion>) return Diff(p_.diffusion_delta, p_.h, p_.c0);
+    else return Diff(p_.diffusion_delta, p_.h, p_.c0, p_.rho0, p_.gravity);
+  }
+
+  template <class Visc>
+  void acc_for_wall() {
+    switch (p_.boundary) {
+      case BoundaryModel::Repulsive:
+        acc_fn_ = &run_acc<Visc, BoundaryModel::Repulsive>;
+        react_fn_ = &run_react<Visc, BoundaryModel::Repulsive>;
+        return;
+      case BoundaryModel::Dynamic:  // same pass as dummy walls: walls are pressure particles
+      case BoundaryModel::DummyAdami:
+        acc_fn_ = &run_acc<Visc, BoundaryModel::DummyAdami>;
+        react_fn_ = &run_react<Visc, BoundaryModel::DummyAdami>;
+        return;
+      case BoundaryModel::SoftRepulsive:
+        acc_fn_ = &run_acc<Visc, BoundaryModel::SoftRepulsive>;
+        react_fn_ = &run_react<Visc, BoundaryModel::SoftRepulsive>;
+        return;
+    }
+  }
+  void pick_acceleration() {
+    if (p_.artificial_viscosity && p_.laminar_viscosity) acc_for_wall<ArtificialAndLaminarViscosity>();
+    else if (p_.artificial_viscosity) acc_for_wall<ArtificialViscosity>();
+    else if (p_.laminar_viscosity) acc_for_wall<LaminarViscosity>();
+    else acc_for_wall<NoViscosity>();
+  }
+  template <BoundaryModel M>
+  void density_for_wall() {
+    sum_fn_ = &run_sum<M>;
+    switch (p_.diffusion) {
+      case DensityDiffusion::None: drho_fn_ = &run_drho<M, NoDensityDiffusion>; break;
+      case DensityDiffusion::Molteni: drho_fn_ = &run_drho<M, MolteniDiffusion>; break;
+      case DensityDiffusion::Fourtakas: drho_fn_ = &run_drho<M, FourtakasDiffusion<D>>; break;
+    }
+  }
+  void pick_density() {
+    switch (p_.boundary) {
+      case BoundaryModel::Repulsive: density_for_wall<BoundaryModel::Repulsive>(); break;
+      case BoundaryModel::Dynamic: density_for_wall<BoundaryModel::Dynamic>(); break;
+      case BoundaryModel::DummyAdami:
+      case BoundaryModel::SoftRepulsive: density_for_wall<BoundaryModel::DummyAdami>(); break;
+    }
+  }
+
+  PhysicsParams<D> p_;
+  Kernel W_;
+  RepulsiveWall wall_;
+  SoftRepulsiveWall soft_;
+  ArtificialViscosity av_;
+  LaminarViscosity lam_;
+  ArtificialStress stress_;
+  TaitEos eos_;
+  Vec<D> g_eff_ = Vec<D>::Zero();
+  bool damping_on_ = false;
+  AccFn acc_fn_ = nullptr, react_fn_ = nullptr;
+  mutable std::vector<Real> p_over_rho2_;  // scratch of the acceleration pass
+  RhoFn drho_fn_ = nullptr, sum_fn_ = nullptr;
+};
+
+template <int D, class Kernel>
+std::unique_ptr<Rates<D>> make_rates_with(const PhysicsParams<D>& p, Kernel k) {
+  return std::make_unique<RatesImpl<D, Kernel>>(p, k);
+}
+
+}  // namespace varsph::physics
