@@ -95,7 +95,7 @@ def hard_cases(outroot):
     for label, sets in (("impact 10 m/s, c0 = 100 m/s, CFL 0.2", {}),
                         ("impact 10 m/s, c0 too low (c0 = 10 sqrt(2gH) = 14 m/s), CFL 0.2",
                          {"fluid.reference_speed": 0.0}),
-                        ("impact 10 m/s, c0 = 100 m/s, fixed dt 5x the CFL 0.2 step", {"integrator.dt": 6e-5})):
+                        ("impact 10 m/s, c0 = 100 m/s, fixed dt 5x the CFL 0.2 step", {"integrator": {"type": "verlet", "dt": 6e-5}})):
         out = os.path.join(outroot, "hard_" + str(len(rows)))
         r = vc.run(scene, out, sets, threads=2)
         nf, bad = vc.nan_frames(out)
