@@ -1,5 +1,8 @@
 // Integrator selection by name, once at setup.
 #include "core/errors.hpp"
+#include "integrators/predictor_corrector.hpp"
+#include "integrators/rk4.hpp"
+#include "integrators/symplectic_euler.hpp"
 #include "integrators/verlet.hpp"
 
 namespace varsph {
@@ -7,8 +10,13 @@ namespace varsph {
 template <int D>
 std::unique_ptr<Integrator<D>> make_integrator(const scene::Scene& s) {
   if (s.integrator == "verlet") return std::make_unique<VerletIntegrator<D>>();
+  // explicit schemes of the foundation notes (docs/integrators.md)
+  if (s.integrator == "symplectic_euler") return std::make_unique<SymplecticEulerIntegrator<D>>();
+  if (s.integrator == "predictor_corrector") return std::make_unique<PredictorCorrectorIntegrator<D>>();
+  if (s.integrator == "rk4") return std::make_unique<Rk4Integrator<D>>();
   throw InputError(s.file.string() + ": key 'integrator.type': \"" + s.integrator +
-                   "\" is not available in this build (available: \"verlet\")");
+                   "\" is not available in this build (available: \"verlet\", \"symplectic_euler\", "
+                   "\"predictor_corrector\", \"rk4\")");
 }
 
 template std::unique_ptr<Integrator<2>> make_integrator<2>(const scene::Scene&);

@@ -233,6 +233,28 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.fp_max_iterations = int(r.integer("integrator.fixed_point.max_iterations", 50, 1, 100000));
   s.fp_on_failure = r.choice("integrator.fixed_point.on_failure", "fail", {"fail", "halve_dt"});
 
+  // --- time integrators and kernel corrections (docs/integrators.md) ---
+  {
+    const double C = s.cfl ? *s.cfl : 0.2;
+    if (r.has("integrator.cfl_criteria")) {
+      if (!r.raw("integrator.cfl_criteria")->is_object())
+        r.fail_got("integrator.cfl_criteria", "an object {acoustic, force, viscous}", *r.raw("integrator.cfl_criteria"));
+      if (!s.cfl) r.fail("integrator.cfl", "integrator.cfl when integrator.cfl_criteria is given");
+      r.mark_known("integrator.cfl_criteria");
+    }
+    s.cfl_acoustic = r.number("integrator.cfl_criteria.acoustic", C, 1e-6, 10, "C_a in C_a h / (c0 + v_max)");
+    s.cfl_force = r.number("integrator.cfl_criteria.force", C, 1e-6, 10, "C_f in C_f sqrt(h / a_max)");
+    s.cfl_viscous = r.number("integrator.cfl_criteria.viscous", 0.125, 1e-6, 10, "C_v in C_v h^2 / nu");
+    if (r.has("physics.shepard_reinit")) {
+      const json* sh = r.raw("physics.shepard_reinit");
+      if (!sh->is_object()) r.fail_got("physics.shepard_reinit", "an object {\"every\": N steps}", *sh);
+      r.mark_known("physics.shepard_reinit");
+      s.shepard_reinit_every = int(r.integer("physics.shepard_reinit.every", 20, 1, 1000000000));
+      if (s.density != "continuity")
+        r.fail("physics.shepard_reinit", "physics.density \"continuity\" (summation densities are not state)");
+    }
+  }
+
   s.t_end = r.positive("time.end", std::nullopt, "end time [s]");
   s.output_every = r.positive("output.every", s.t_end / 50, "seconds between frames");
   s.output_fields = r.strings("output.fields", std::vector<std::string>{"velocity", "density", "pressure", "mass",

@@ -98,6 +98,14 @@ struct Scene {
   nlohmann::json probes;        // list, validated by the probes module
   double max_density_error = 0.5;  // health: |rho/rho0 - 1| beyond this stops the run (exit 3)
   int log_every_steps = 0;
+
+  // --- time integrators and kernel corrections (docs/integrators.md) ---
+  // CFL criteria, each with its own coefficient (dimensionless); dt = min of the three limits:
+  // acoustic C_a h / (c0 + v_max), force C_f sqrt(h / a_max), viscous C_v h^2 / nu.
+  double cfl_acoustic = 0.2;  // integrator.cfl_criteria.acoustic (default integrator.cfl, else 0.2)
+  double cfl_force = 0.2;     // integrator.cfl_criteria.force    (default integrator.cfl, else 0.2)
+  double cfl_viscous = 0.125; // integrator.cfl_criteria.viscous  (Morris 1997)
+  int shepard_reinit_every = 0;  // physics.shepard_reinit.every [steps], 0 = off
 };
 
 // Parses and validates a scene file with --set overrides applied first (InputError on any problem).

@@ -5,6 +5,8 @@
 
 #include "core/errors.hpp"
 #include "physics/pair_loop.hpp"
+#include "integrators/time_step_control.hpp"
+#include "physics/corrections/corrections.hpp"
 #include "sim/build_particles.hpp"
 
 namespace varsph {
@@ -184,22 +186,8 @@ void Simulation<D>::update_density_after_move(Real dt) {
 
 template <int D>
 double Simulation<D>::cfl_dt() const {
-  // Monaghan's acoustic and force limits: dt = C min(h / (c0 + v_max), sqrt(h / a_max))
-  const double C = scene_.cfl ? *scene_.cfl : 0.2;
-  double vmax = 0, amax = 0;
-  const long n = long(store_.size());
-#pragma omp parallel for schedule(static) reduction(max : vmax, amax)
-  for (long i = 0; i < n; ++i) {
-    if (f_.kind[i] != 0) continue;
-    vmax = std::max(vmax, double(f_.v[i].norm()));
-    amax = std::max(amax, double(f_.a[i].norm()));
-  }
-  const double h = scene_.h;
-  double dt = h / (scene_.c0 + vmax);
-  if (amax > 0) dt = std::min(dt, std::sqrt(h / amax));
-  dt *= C;
-  if (params_.laminar_viscosity) dt = std::min(dt, 0.125 * h * h / double(params_.nu));  // Morris 1997 eq. (10)
-  return dt;
+  // acoustic, force and viscous limits, each with its coefficient (integrators/time_step_control.hpp)
+  return cfl_limits(*this).dt();
 }
 
 template <int D>
@@ -214,7 +202,23 @@ const StepReport& Simulation<D>::advance() {
   ++step_;
   // fixed dt: t = t0 + k dt exactly as two runs with the same dt compute it (frames match by time)
   time_ += dt_;
+  if (scene_.shepard_reinit_every > 0 && step_ % scene_.shepard_reinit_every == 0) reinitialise_density();
   return report_;
+}
+
+template <int D>
+void Simulation<D>::reinitialise_density() {
+  rho_scratch_.resize(store_.size());
+  const auto o = physics::corrections::Options::of(params_);
+  physics::corrections::shepard_density<D>(grid_, current_view(), o, rho_scratch_);
+  Real* rho = f_.rho.data.data();
+  const std::int32_t* kind = f_.kind.data.data();
+  const Real* out = rho_scratch_.data();
+  // fluid particles only: wall densities (dynamic model) keep their own continuity evolution
+  for_each_particle(store_.size(), [&](std::size_t i) {
+    if (kind[i] == 0) rho[i] = out[i];
+  });
+  update_pressure();
 }
 
 template class Simulation<2>;

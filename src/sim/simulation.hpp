@@ -99,6 +99,10 @@ class Simulation {
   double choose_dt() const;
   void set_dt(double dt) { dt_ = dt; }
   double cfl_dt() const;  // the CFL limit on the current state (for `info` and reports)
+  // Shepard density re-initialisation (physics.shepard_reinit; Colagrossi & Landrini 2003):
+  // rho_i = sum_j m_j W_ij / sum_j V_j W_ij for fluid particles, then p = EOS(rho). advance() calls it
+  // every `every` steps after the integrator step (the grid must be valid for the current positions).
+  void reinitialise_density();
   // Restores time/step counters (restart).
   void set_clock(double time, long step) { time_ = time; step_ = step; }
 
@@ -115,6 +119,7 @@ class Simulation {
   Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls: velocity boundary particles show to viscosity
   Field<Vec<D>>* xsph_ = nullptr;    // XSPH correction
   std::vector<std::uint32_t> perm_;
+  std::vector<Real> rho_scratch_;  // Shepard re-initialisation output (sized once)
   std::size_t n_fluid_ = 0, n_boundary_ = 0;
   Real skin_ = 0;
   double time_ = 0, dt_ = 0;

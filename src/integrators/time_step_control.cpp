@@ -1,0 +1,58 @@
+#include "integrators/time_step_control.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/simulation.hpp"
+
+namespace varsph {
+
+double CflLimits::dt() const { return std::min({acoustic, force, viscous}); }
+
+const char* CflLimits::binding() const {
+  const double d = dt();
+  if (d == acoustic) return "acoustic";
+  if (d == force) return "force";
+  return "viscous";
+}
+
+template <int D>
+double effective_viscosity(const Simulation<D>& sim) {
+  const auto& s = sim.scene();
+  double nu = 0;
+  // Monaghan 2005 (Rep. Prog. Phys. 68), eq. (4.14): nu = alpha c h / (2 (d + 2)) for Monaghan's Pi_ij
+  if (s.artificial_viscosity) nu += s.av_alpha * s.c0 * s.h / (2.0 * (D + 2));
+  // physical viscosity (Morris et al. 1997: dt <= 0.125 h^2 / nu with the default coefficient)
+  if (sim.params().laminar_viscosity) nu += double(sim.params().nu);
+  return nu;
+}
+
+template <int D>
+CflLimits cfl_limits(const Simulation<D>& sim) {
+  const auto& s = sim.scene();
+  const auto& f = sim.fields();
+  CflLimits L;
+  double vmax = 0, amax = 0;
+  const long n = long(sim.size());
+#pragma omp parallel for schedule(static) reduction(max : vmax, amax)
+  for (long i = 0; i < n; ++i) {
+    if (f.kind[i] != 0) continue;
+    vmax = std::max(vmax, double(f.v[i].norm()));
+    amax = std::max(amax, double(f.a[i].norm()));
+  }
+  L.v_max = vmax;
+  L.a_max = amax;
+  const double h = s.h;
+  L.acoustic = s.cfl_acoustic * h / (s.c0 + L.v_max);                // Monaghan 1992
+  if (L.a_max > 0) L.force = s.cfl_force * std::sqrt(h / L.a_max);   // Monaghan 1992
+  L.nu = effective_viscosity(sim);
+  if (L.nu > 0) L.viscous = s.cfl_viscous * h * h / L.nu;            // Morris et al. 1997
+  return L;
+}
+
+template double effective_viscosity<2>(const Simulation<2>&);
+template double effective_viscosity<3>(const Simulation<3>&);
+template CflLimits cfl_limits<2>(const Simulation<2>&);
+template CflLimits cfl_limits<3>(const Simulation<3>&);
+
+}  // namespace varsph
