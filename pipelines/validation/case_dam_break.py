@@ -21,6 +21,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import vcommon as vc  # noqa: E402
 
 SCENE = os.path.join(vc.HERE, "dam_break_mm.json")
+SCENE_WENDLAND = os.path.join(vc.HERE, "dam_break_mm_wendland.json")
 A = 0.145
 G = 9.8
 T_MIN, T_MAX, SHIFT = 0.8, 3.0, 0.3

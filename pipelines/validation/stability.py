@@ -42,8 +42,10 @@ def hc(scene, sets):
 
 
 def trial(scene, sets, f, h_c, outdir, log):
-    s = dict(sets)
-    s["integrator.dt"] = f * h_c
+    s = {k: v for k, v in sets.items() if not k.startswith("integrator.")}
+    s["integrator"] = {"type": sets["integrator.type"], "dt": f * h_c}
+    if "integrator.alpha" in sets:
+        s["integrator"]["alpha"] = sets["integrator.alpha"]
     r = vc.run(scene, outdir, s, threads=2)
     nf, bad = vc.nan_frames(outdir)
     log.append({"f": f, "dt": f * h_c, "rc": r.rc, "wall": r.solver_wall, "frames": nf, "nan_frames": bad,
