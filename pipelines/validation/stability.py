@@ -24,7 +24,7 @@ import case_hydrostatic  # noqa: E402
 CASES = {
     # scene, sets (coarse, short), simulated time
     "dam_break": (case_dam_break.SCENE, {"particles.spacing": 0.005, "time.end": 0.4, "output.every": 0.05}),
-    "hydrostatic": (case_hydrostatic.SCENE, {"particles.spacing": 0.01, "time.end": 1.0, "output.every": 0.1}),
+    "hydrostatic": (case_hydrostatic.SCENE, {"particles.spacing": 0.01, "time.end": 0.5, "output.every": 0.1}),
 }
 INTEGRATORS = ["verlet", "variational:0.25", "variational:0.5", "variational:0.75", "symplectic_euler", "rk4",
                "predictor_corrector"]
@@ -57,7 +57,7 @@ def trial(scene, sets, f, h_c, outdir, log):
     return r.rc == 0
 
 
-def largest_stable(case, integ, tol, outroot):
+def largest_stable(case, integ, tol, outroot, start=0.2):
     scene, sets = CASES[case]
     itype, _, alpha = integ.partition(":")
     sets = dict(sets, **{"integrator.type": itype})
@@ -68,7 +68,7 @@ def largest_stable(case, integ, tol, outroot):
     h_c = hc(scene, sets)
     out = os.path.join(outroot, f"{case}_{integ.replace(':', '_')}")
     log = []
-    lo, hi = 0.0, 0.2
+    lo, hi = 0.0, start
     while trial(scene, sets, hi, h_c, out, log):
         lo, hi = hi, hi * 2
         if hi > 50:
@@ -122,6 +122,8 @@ def main():
     ap.add_argument("--cases", default="dam_break,hydrostatic")
     ap.add_argument("--integrators", default=",".join(INTEGRATORS))
     ap.add_argument("--tol", type=float, default=0.05)
+    ap.add_argument("--start", type=float, default=0.2, help="first f tried (doubled while stable)")
+    ap.add_argument("--csv-name", default="stability.csv")
     ap.add_argument("--hard", action="store_true", help="also the hard cases")
     ap.add_argument("--only-hard", action="store_true")
     ap.add_argument("--check", action="store_true", help="exit 1 if a frame holds NaN or a run exits other than 0/3")
@@ -134,14 +136,14 @@ def main():
         for case in a.cases.split(","):
             for integ in a.integrators.split(","):
                 print(f"{case} {integ}", flush=True)
-                r = largest_stable(case, integ, a.tol, a.outdir)
+                r = largest_stable(case, integ, a.tol, a.outdir, a.start)
                 if r is None:
                     print("   not available in this build")
                     continue
                 rows.append(r)
                 print(f"   largest stable f = {r['f_stable']:.3g} (dt = {r['dt_stable']:.3e} s)", flush=True)
                 fail |= r["nan_frames_total"] != 0
-                vc.write_csv(os.path.join(a.outdir, "stability.csv"), rows)
+                vc.write_csv(os.path.join(a.outdir, a.csv_name), rows)
     if a.hard or a.only_hard:
         rows = hard_cases(a.outdir)
         vc.write_csv(os.path.join(a.outdir, "hard_cases.csv"), rows)
