@@ -8,6 +8,7 @@ namespace varsph {
 struct CommandArgs {
   std::vector<std::string> argv;
   std::string scene, output, restart;
+  std::string run_a, run_b;  // compare
   std::vector<std::string> overrides;
   int threads = 0;
   bool overwrite = false, quiet = false;
@@ -16,5 +17,6 @@ struct CommandArgs {
 int command_run(const CommandArgs& a);
 int command_info(const CommandArgs& a);
 int command_sample(const CommandArgs& a);
+int command_compare(const CommandArgs& a);
 
 }  // namespace varsph

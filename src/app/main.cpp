@@ -1,4 +1,4 @@
-// The `varsph` command: run, info, sample (CONTRACT.md). Exit codes: 0 ok, 1 internal error,
+// The `varsph` command: run, info, sample, compare (CONTRACT.md). Exit codes: 0 ok, 1 internal error,
 // 2 invalid input or usage, 3 numerical failure, 4 I/O failure, 130/143 interrupted.
 #include <cstdio>
 #include <iostream>
@@ -39,6 +39,13 @@ int main(int argc, char** argv) {
   sample->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE");
   sample->add_flag("--overwrite", args.overwrite, "Replace an existing non-empty directory");
 
+  auto* compare = app.add_subcommand("compare", "Deviation between two runs (seed eq. 70): DIR/deviation.csv, DIR/deviation.pvd");
+  compare->add_option("run_a", args.run_a, "Run directory A (or its .pvd)")->required();
+  compare->add_option("run_b", args.run_b, "Run directory B (or its .pvd)")->required();
+  compare->add_option("-o,--output", args.output, "Output directory (default RUN_A/post/deviation_vs_NAME)");
+  compare->add_flag("--overwrite", args.overwrite, "Replace an existing non-empty output directory");
+  compare->add_flag("--quiet", args.quiet, "Print only errors");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -49,6 +56,7 @@ int main(int argc, char** argv) {
     if (*run) return command_run(args);
     if (*info) return command_info(args);
     if (*sample) return command_sample(args);
+    if (*compare) return command_compare(args);
   } catch (const InputError& e) {
     std::fprintf(stderr, "varsph: error: %s\n", e.what());
     return kExitInput;

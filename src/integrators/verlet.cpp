@@ -5,7 +5,7 @@
 namespace varsph {
 
 template <int D>
-void VerletIntegrator<D>::initialize(Simulation<D>& sim) {
+void verlet_initialize(Simulation<D>& sim) {
   auto& f = sim.fields();
   const Vec<D> half_dt_g = Real(0.5 * sim.dt()) * sim.rates().body_acceleration();  // g(0): ramp, body force
   for (std::size_t i = 0; i < sim.size(); ++i)
@@ -13,7 +13,7 @@ void VerletIntegrator<D>::initialize(Simulation<D>& sim) {
 }
 
 template <int D>
-StepReport VerletIntegrator<D>::step(Simulation<D>& sim) {
+void verlet_step(Simulation<D>& sim) {
   auto& f = sim.fields();
   sim.rates().acceleration(sim.grid(), sim.current_view(), f.a.data.data());  // eq. (59)
   sim.set_dt(sim.choose_dt());
@@ -39,9 +39,23 @@ StepReport VerletIntegrator<D>::step(Simulation<D>& sim) {
   }
   sim.sort_and_bin();
   sim.update_density_after_move(dt);
+}
+
+template <int D>
+void VerletIntegrator<D>::initialize(Simulation<D>& sim) {
+  verlet_initialize(sim);
+}
+
+template <int D>
+StepReport VerletIntegrator<D>::step(Simulation<D>& sim) {
+  verlet_step(sim);
   return {};
 }
 
+template void verlet_initialize<2>(Simulation<2>&);
+template void verlet_initialize<3>(Simulation<3>&);
+template void verlet_step<2>(Simulation<2>&);
+template void verlet_step<3>(Simulation<3>&);
 template class VerletIntegrator<2>;
 template class VerletIntegrator<3>;
 

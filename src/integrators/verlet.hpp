@@ -16,4 +16,10 @@ class VerletIntegrator final : public Integrator<D> {
   StepReport step(Simulation<D>& sim) override;
 };
 
+// The one explicit alpha = 1 code path, shared by `verlet` and `variational` with alpha = 1.
+template <int D>
+void verlet_initialize(Simulation<D>& sim);
+template <int D>
+void verlet_step(Simulation<D>& sim);
+
 }  // namespace varsph

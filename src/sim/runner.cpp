@@ -102,10 +102,23 @@ class Runner {
     int exit_code = kExitOk;
     const long start_step = sim.step();
 
+    warn_dt_bound(sim.dt(), sim.integrator().dt_bound(), 0);  // on the initial state (eq. 54 estimate)
     while (sim.time() < scene_.t_end - 0.5 * sim.dt()) {
       capture_last_good(sim);
-      const StepReport& rep = sim.advance();
+      StepReport rep;
+      try {
+        rep = sim.advance();
+      } catch (const NumericalError& e) {  // e.g. a fixed point that did not converge (on_failure = fail)
+        // the integrator left the state at the last accepted step: write it as the last good frame and
+        // checkpoint
+        if (!last_frame_at_current_) write_frame(sim);
+        const std::string cp = write_checkpoint(sim);
+        failure = std::string(e.what()) + ". The last good frame is " + last_frame_name_ + ", checkpoint " + cp;
+        exit_code = kExitNumerical;
+        break;
+      }
       accumulate(rep);
+      warn_dt_bound(sim.dt(), rep.dt_bound, sim.step());
       last_frame_at_current_ = false;
       if (const std::string bad = check_health(sim); !bad.empty()) {
         failure = handle_blow_up(sim, bad);
@@ -314,6 +327,15 @@ class Runner {
     probes_csv_.row(row);
   }
 
+  void warn_dt_bound(double dt, double bound, long step) {
+    if (bound <= 0 || dt <= bound || warned_dt_bound_) return;
+    warned_dt_bound_ = true;
+    std::fprintf(stderr,
+                 "varsph: warning: dt = %.3g s exceeds the fixed-point bound of eq. (54), about %.3g s (step %ld); "
+                 "the iterations may stop converging\n",
+                 dt, bound, step);
+  }
+
   void accumulate(const StepReport& r) {
     ++fp_steps_;
     fp_iter_sum_ += r.iterations;
@@ -401,6 +423,7 @@ class Runner {
   std::chrono::steady_clock::time_point t0_;
   long frame_index_ = 0, steps_ = 0;
   bool last_frame_at_current_ = false;
+  bool warned_dt_bound_ = false;
   double particle_steps_ = 0;
   long fp_steps_ = 0, fp_iter_sum_ = 0;
   int fp_iter_max_ = 0;

@@ -36,6 +36,9 @@ class Integrator {
   virtual ~Integrator() = default;
   virtual const char* name() const = 0;
   virtual bool implicit() const { return false; }
+  // Current estimate of the largest dt for which the scheme's fixed point contracts (seed eq. 54) [s];
+  // 0 when not applicable.
+  virtual double dt_bound() const { return 0; }
   // Called once after the particles are built and binned (e.g. v(-1/2) of seed eq. 60).
   virtual void initialize(Simulation<D>& sim) = 0;
   // Advances the simulation by one step of length dt (chosen by the simulation's dt control).

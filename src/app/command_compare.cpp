@@ -1,0 +1,29 @@
+// `varsph compare RUN_A RUN_B [-o DIR]`: deviation between two runs, seed eq. (70) (CONTRACT.md).
+#include <cstdio>
+
+#include "app/commands.hpp"
+#include "io/deviation.hpp"
+
+namespace varsph {
+
+int command_compare(const CommandArgs& a) {
+  io::CompareOptions o;
+  o.run_a = a.run_a;
+  o.run_b = a.run_b;
+  o.overwrite = a.overwrite;
+  // default: RUN_A/post/deviation_vs_<name of RUN_B>
+  const auto b_name = std::filesystem::path(a.run_b).lexically_normal().filename().string();
+  o.output = a.output.empty()
+                 ? std::filesystem::path(a.run_a) / "post" / ("deviation_vs_" + (b_name.empty() ? "B" : b_name))
+                 : std::filesystem::path(a.output);
+  const auto rows = io::compare_runs(o);
+  if (!a.quiet) {
+    double dmax = 0;
+    for (const auto& r : rows) dmax = std::max(dmax, r.d_max);
+    std::printf("varsph: compared %zu frames (t = %g .. %g s); largest D = %.6g m -> %s\n", rows.size(),
+                rows.front().time, rows.back().time, dmax, (o.output / "deviation.csv").string().c_str());
+  }
+  return 0;
+}
+
+}  // namespace varsph
