@@ -1,0 +1,119 @@
+#!/usr/bin/env python3
+"""Hydrostatic tank: pressure profile against rho0 g (H - y) and stability over (by default) 10 s.
+
+Metrics (from probes.csv, diagnostics.csv and the last frame):
+  p_err    relative L2 error of the probe pressures, each averaged over the last 20 % of the run,
+           against rho0 g (H - y) with the initial H = 0.3 m: ||p - p_ref|| / ||p_ref|| over the 8 probes
+  drift    free-surface drift: mean water height (centre probe) over the last 10 % minus its mean over
+           0.1 t_end ... 0.2 t_end (after the start-up transient) [m]; also h_end - H
+  escaped  fluid particles of the last frame outside the tank [0, 0.4] x [0, inf) (or NaN positions)
+  rho_err  largest |rho/rho0 - 1| of diagnostics.csv over the run
+
+  /usr/bin/python3 pipelines/validation/case_hydrostatic.py [--dx 0.01] [--t-end 10] [--set K=V]...
+      [--check-p 0.05 --check-drift 0.005]
+"""
+import argparse
+import json
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import vcommon as vc  # noqa: E402
+
+SCENE = os.path.join(vc.HERE, "hydrostatic_tank.json")
+H, RHO0, G, WIDTH = 0.3, 1000.0, 9.81, 0.4
+
+
+def last_frame_escapes(rundir):
+    try:
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+    except ImportError:
+        return -1
+    fr = os.path.join(rundir, "frames")
+    files = sorted(f for f in os.listdir(fr) if f.endswith(".vtu"))
+    r = vtkXMLUnstructuredGridReader()
+    r.SetFileName(os.path.join(fr, files[-1]))
+    r.Update()
+    g = r.GetOutput()
+    x = vtk_to_numpy(g.GetPoints().GetData())
+    kind = vtk_to_numpy(g.GetPointData().GetArray("kind"))
+    xf = x[kind == 0]
+    bad = ~np.isfinite(xf).all(axis=1) | (xf[:, 0] < 0) | (xf[:, 0] > WIDTH) | (xf[:, 1] < 0)
+    return int(bad.sum())
+
+
+def evaluate(rundir, t_end):
+    p = vc.read_csv(os.path.join(rundir, "probes.csv"))
+    t = p["time"]
+    late = t >= 0.8 * t_end
+    errs, num, den = [], 0.0, 0.0
+    for k in p:
+        if not k.startswith("p_y"):
+            continue
+        y = int(k[3:]) / 1000.0
+        pe = RHO0 * G * (H - y)
+        pm = float(np.mean(p[k][late]))
+        num += (pm - pe) ** 2
+        den += pe ** 2
+        errs.append((y, pm, pe))
+    h = p["h_centre"]
+    early = (t >= 0.1 * t_end) & (t <= 0.2 * t_end)
+    end = t >= 0.9 * t_end
+    d = vc.read_csv(os.path.join(rundir, "diagnostics.csv"))
+    return {"p_err": float(np.sqrt(num / den)), "drift": float(np.mean(h[end]) - np.mean(h[early])),
+            "h_end_minus_H": float(np.mean(h[end]) - H), "h_side_end_minus_H": float(np.mean(p["h_side"][end]) - H),
+            "rho_err": float(np.nanmax(d["density_error_max"])),
+            "escaped": last_frame_escapes(rundir), "profile": errs,
+            "max_speed_end": float(d["max_speed"][-1])}
+
+
+def run_case(dx=0.01, sets=None, threads=2, outdir=None, t_end=10.0, scene=SCENE):
+    s = {"particles.spacing": dx, "time.end": t_end, "output.every": t_end / 5, "output.probes_every": t_end / 500}
+    s.update(sets or {})
+    outdir = outdir or os.path.join(vc.ROOT, "runs", "validation", f"hydrostatic_dx{dx:g}_t{t_end:g}")
+    r = vc.run(scene, outdir, s, threads)
+    res = {"rc": r.rc, "wall": r.solver_wall, "steps": r.steps, "psps": r.psps, "load": r.load_before,
+           "message": r.message() if r.rc else ""}
+    if r.rc == 0:
+        res.update(evaluate(outdir, t_end))
+        res["error"] = res["p_err"]
+        res["wall_per_sim_s"] = r.solver_wall / t_end
+    else:
+        res["error"] = float("nan")
+    return res
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--dx", type=float, default=0.01)
+    ap.add_argument("--t-end", type=float, default=10.0)
+    ap.add_argument("--set", action="append", default=[])
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("-o", "--outdir")
+    ap.add_argument("--check-p", type=float)
+    ap.add_argument("--check-drift", type=float)
+    a = ap.parse_args()
+    res = run_case(a.dx, dict(kv.split("=", 1) for kv in a.set), a.threads, a.outdir, a.t_end)
+    print(json.dumps(res, indent=1))
+    if res["rc"] != 0:
+        print(f"FAIL: varsph exited {res['rc']}: {res['message']}")
+        return 1
+    bad = []
+    if a.check_p is not None and not res["p_err"] <= a.check_p:
+        bad.append(f"pressure error {res['p_err']:.4f} > {a.check_p}")
+    if a.check_drift is not None and not abs(res["drift"]) <= a.check_drift:
+        bad.append(f"free-surface drift {res['drift']:.5f} m > {a.check_drift}")
+    if res["escaped"] != 0:
+        bad.append(f"{res['escaped']} fluid particles outside the tank")
+    if bad:
+        print("FAIL: " + "; ".join(bad))
+        return 1
+    print("OK")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
