@@ -63,8 +63,11 @@ BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
     }
     if (!b.mesh.contains("mesh")) r.fail(at(base, "mesh"), "a mesh file path (relative to the scene file)");
   }
-  if (b.kind == "boundary")
+  if (b.kind == "boundary") {
     b.layers = int(r.integer(at(base, "layers"), 1, 1, 16));
+    // validated with its law by sim/boundary_motion.cpp (errors name bodies.N.motion.KEY)
+    if (r.raw(at(base, "motion"))) b.motion = r.subtree(at(base, "motion"), json());  // null: fixed
+  }
   if (b.kind == "fluid") {
     b.initial_pressure = r.choice(at(base, "initial_pressure"), "zero", {"zero", "hydrostatic"});
     if (b.initial_pressure == "hydrostatic") {

@@ -26,6 +26,7 @@ struct BodySpec {
   std::string initial_pressure = "zero";  // fluid: "zero" | "hydrostatic"
   double free_surface = 0;                // hydrostatic: level of the free surface [m] (default body top)
   nlohmann::json mesh;                    // shape "mesh": the body's mesh keys, for the geometry module
+  nlohmann::json motion;                  // boundary: prescribed motion (sim/boundary_motion.hpp), null if fixed
 };
 
 struct Scene {

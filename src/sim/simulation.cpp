@@ -88,6 +88,13 @@ Simulation<D>::Simulation(const scene::Scene& scene)
   n_fluid_ = init.count(0);
   n_boundary_ = init.count(1);
 
+  {
+    std::vector<MotionLaw<D>> laws;
+    for (std::size_t b = 0; b < scene.bodies.size(); ++b)
+      laws.push_back(parse_motion<D>(scene.bodies[b].motion, scene.file.string() + ": bodies." + std::to_string(b) + ".motion"));
+    motion_ = std::make_unique<BoundaryMotion<D>>(std::move(laws), store_);
+    motion_->capture_reference(f_.x, f_.normal);
+  }
   integrator_ = make_integrator<D>(scene);
   set_skin(0);
   sort_and_bin();
@@ -124,7 +131,14 @@ void Simulation<D>::set_skin(Real skin) {
 }
 
 template <int D>
+void Simulation<D>::move_boundaries(double t) {
+  motion_->apply(t, f_.x, f_.v, f_.normal, f_.body);
+}
+
+template <int D>
 void Simulation<D>::sort_and_bin() {
+  // moving walls take their place in the new configuration (time t + dt) before binning
+  if (motion_ && motion_->active()) move_boundaries(time_ + dt_);
   auto& x = f_.x.data;
   bool any_periodic = false;
   for (int a = 0; a < D; ++a) any_periodic |= scene_.periodic[a];
@@ -197,6 +211,7 @@ double Simulation<D>::choose_dt() const {
 
 template <int D>
 const StepReport& Simulation<D>::advance() {
+  if (motion_->active()) move_boundaries(time_);  // walls at t_k for the forces of this step
   rates_->set_time(time_);  // gravity ramp, damping window
   report_ = integrator_->step(*this);
   ++step_;

@@ -15,6 +15,7 @@
 #include "physics/physics_params.hpp"
 #include "physics/rates.hpp"
 #include "scene/scene.hpp"
+#include "sim/boundary_motion.hpp"
 #include "sim/particle_fields.hpp"
 
 namespace varsph {
@@ -101,6 +102,8 @@ class Simulation {
   // dt for the next step from the scene's fixed dt or CFL rule, given the last accelerations.
   double choose_dt() const;
   void set_dt(double dt) { dt_ = dt; }
+  // Positions and velocities of moving boundary bodies at time t (no-op when no body moves).
+  void move_boundaries(double t);
   double cfl_dt() const;  // the CFL limit on the current state (for `info` and reports)
   // Shepard density re-initialisation (physics.shepard_reinit; Colagrossi & Landrini 2003):
   // rho_i = sum_j m_j W_ij / sum_j V_j W_ij for fluid particles, then p = EOS(rho). advance() calls it
@@ -118,6 +121,7 @@ class Simulation {
   NeighborGrid<D> grid_;
   std::unique_ptr<physics::Rates<D>> rates_;
   std::unique_ptr<Integrator<D>> integrator_;
+  std::unique_ptr<BoundaryMotion<D>> motion_;  // prescribed motion of boundary bodies (inactive if none)
   std::vector<Field<Vec<D>>*> position_like_;
   Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls: velocity boundary particles show to viscosity
   Field<Vec<D>>* xsph_ = nullptr;    // XSPH correction
