@@ -24,6 +24,7 @@ struct PhysicsParams {
   bool kernel_tabulated = true;  // W, F from a table in r^2 (kernels/tabulated.hpp) or exact
   Real rho0 = 1000;         // rest density [kg/m^3]
   Real c0 = 0;              // speed of sound [m/s]
+  Real background_pressure = 0;  // p_b added by the equation of state [Pa]
   Real dx = 0;              // particle spacing [m] (soft repulsive force, artificial stress)
   Vec<D> gravity = Vec<D>::Zero();  // [m/s^2]
   DensityMode density = DensityMode::Continuity;

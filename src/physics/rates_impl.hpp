@@ -20,7 +20,7 @@ class RatesImpl final : public Rates<D> {
       : p_(p), W_(kernel), wall_(p.wall_D, p.wall_r0, p.wall_n1, p.wall_n2),
         soft_(p.soft_wall_coef, p.c0, p.dx, p.h),
         av_(p.av_alpha, p.av_beta, p.c0, p.h, p.av_eps), lam_(p.nu, p.h),
-        stress_(p.as_eps, W_.w_r2(p.dx * p.dx), p.as_n), eos_(p.rho0, p.c0) {
+        stress_(p.as_eps, W_.w_r2(p.dx * p.dx), p.as_n), eos_(p.rho0, p.c0, p.background_pressure) {
     pick_acceleration();
     pick_density();
     set_time(0);

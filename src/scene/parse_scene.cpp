@@ -52,6 +52,14 @@ BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
             r.vector(at(base, "velocities." + std::to_string(k)), dim, std::nullopt, "velocity [m/s]"));
       r.subtree(at(base, "velocities"), *vel);
     }
+    if (const json* pr = r.raw(at(base, "pressures"))) {
+      if (!pr->is_array() || pr->size() != n) r.fail_got(at(base, "pressures"), "an array with one pressure [Pa] per point", *pr);
+      for (const auto& v : *pr) {
+        if (!v.is_number()) r.fail_got(at(base, "pressures"), "numbers [Pa]", *pr);
+        b.pressures.push_back(v.get<double>());
+      }
+      r.subtree(at(base, "pressures"), *pr);
+    }
   }
   if (b.shape == "mesh") {
     // mesh bodies: keys validated by the geometry module (docs/geometry.md)
@@ -158,6 +166,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
     s.c0_rule = "auto: " + std::to_string(factor) + " x max(sqrt(2 g H), reference_speed)";
   }
 
+  s.background_pressure = r.number("fluid.background_pressure", 0.0, 0, kInf, "background pressure p_b [Pa]");
   s.density = r.choice("physics.density", "continuity", {"continuity", "summation"});
   if (r.has("physics.artificial_viscosity")) {
     s.artificial_viscosity = true;

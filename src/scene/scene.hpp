@@ -20,6 +20,7 @@ struct BodySpec {
   double radius = 0;                      // [m]
   std::vector<std::vector<double>> points;      // shape "points": positions [m]
   std::vector<std::vector<double>> velocities;  // shape "points": per-point velocities [m/s]
+  std::vector<double> pressures;                // shape "points": per-point initial pressures [Pa]
   std::vector<double> velocity;           // initial velocity of the whole body [m/s]
   std::vector<bool> open;                 // tank: per axis and side {min0,max0,min1,max1,...} left open
   int layers = 1;                         // boundary particle layers (tank, box surface, mesh)
@@ -49,6 +50,7 @@ struct Scene {
 
   double rho0 = 1000;
   double c0 = 0;               // resolved speed of sound [m/s]
+  double background_pressure = 0;  // fluid.background_pressure [Pa]
   std::string c0_rule;         // how c0 was obtained
   std::vector<double> gravity;
 

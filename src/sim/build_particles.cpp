@@ -192,6 +192,8 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
         const double depth = std::max(0.0, up_surface - up);
         rho = s.rho0 * std::pow(1.0 + s.rho0 * gmag * depth / B, 1.0 / 7.0);
       }
+      if (kind == 0 && k < b.pressures.size())  // given initial pressure: rho from the inverse of eq. (11)
+        rho = s.rho0 * std::pow(1.0 + b.pressures[k] / B, 1.0 / 7.0);
       out.rho.push_back(Real(rho));
       out.kind.push_back(kind);
       out.body.push_back(int(bi));

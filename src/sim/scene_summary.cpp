@@ -49,9 +49,11 @@ std::string describe(const scene::Scene& s) {
     << "density            " << s.density << "\n"
     << "viscosity          "
     << (s.artificial_viscosity ? "artificial (alpha " + std::to_string(s.av_alpha) + ", beta " +
-                                     std::to_string(s.av_beta) + ")"
-                               : std::string("none"))
-    << "\n"
+                                     std::to_string(s.av_beta) + ") "
+                               : std::string(""))
+    << (s.laminar_viscosity ? "laminar (nu " + std::to_string(s.nu) + " m^2/s)" : std::string(""))
+    << (!s.artificial_viscosity && !s.laminar_viscosity ? "none" : "") << "\n"
+    << "density diffusion  " << s.density_diffusion << "\n"
     << "boundary           " << s.boundary_model << " (D " << s.wall_D << " m^2/s^2, r0 " << s.wall_r0 << " m)\n"
     << "integrator         " << s.integrator << " (alpha " << s.alpha << ")\n";
   const double acoustic = s.h / s.c0;

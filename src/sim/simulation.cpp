@@ -21,6 +21,7 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
   p.kernel_tabulated = s.kernel_tabulated;
   p.rho0 = Real(s.rho0);
   p.c0 = Real(s.c0);
+  p.background_pressure = Real(s.background_pressure);
   for (int a = 0; a < D; ++a) p.gravity[a] = Real(s.gravity[a]);
   p.density = s.density == "summation" ? physics::DensityMode::Summation : physics::DensityMode::Continuity;
   p.artificial_viscosity = s.artificial_viscosity;
@@ -60,7 +61,7 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
 
 template <int D>
 Simulation<D>::Simulation(const scene::Scene& scene)
-    : scene_(scene), f_(store_), params_(params_from<D>(scene)), eos_(Real(scene.rho0), Real(scene.c0)) {
+    : scene_(scene), f_(store_), params_(params_from<D>(scene)), eos_(Real(scene.rho0), Real(scene.c0), Real(scene.background_pressure)) {
   if (scene.dimension != D) throw std::logic_error("scene dimension does not match Simulation<D>");
   rates_ = physics::make_rates<D>(params_);
 

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "core/errors.hpp"
 #include "scene/scene.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/simulation.hpp"
@@ -148,4 +149,23 @@ TEST(Cases, ParticleThrownAtTheWallAtDamBreakSpeedDoesNotPassIt) {
   }
   EXPECT_GT(lowest, -0.0025 + 0.001) << "the particle reached the wall particles' row";
   EXPECT_LT(lowest, 0.0025) << "the particle should come close to the wall";
+}
+
+TEST(Cases, GivenInitialPressuresAndBackgroundPressureAreHonoured) {
+  // points with initial pressures: rho from the inverse of eq. (11); p = B((rho/rho0)^7 - 1) + p_b
+  auto j = nlohmann::json::parse(R"({
+    "name": "pressures", "dimension": 2,
+    "domain": {"min": [-1, -1], "max": [1, 1]},
+    "particles": {"spacing": 0.1},
+    "fluid": {"c0": 10, "background_pressure": 50},
+    "bodies": [{"kind": "fluid", "shape": "points", "points": [[0, 0], [0.5, 0.5]], "pressures": [100, -20]}],
+    "integrator": {"dt": 1e-4}, "time": {"end": 0.001}
+  })");
+  Simulation<2> sim(scene::parse_scene_json(j, "p.json"));
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    const double given = sim.fields().id[i] == 0 ? 100.0 : -20.0;
+    EXPECT_NEAR(double(sim.fields().p[i]), given + 50.0, 1e-9 * 1000.0);
+  }
+  j["bodies"][0]["pressures"] = {1.0};
+  EXPECT_THROW(scene::parse_scene_json(j, "p.json"), InputError);
 }
