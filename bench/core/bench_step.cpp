@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
       {"dam_break_2d_27k", "dam_break_2d_paper.json", {"particles.spacing=0.00125", "integrator.dt=2.5e-5"}, quick ? 20 : 200},
       {"dam_break_2d_430k", "dam_break_2d_paper.json", {"particles.spacing=0.0003125", "integrator.dt=6e-6"}, quick ? 3 : 20},
       {"box_3d_100k", "bench_box_3d.json", {}, quick ? 3 : 20},
+      {"dsph_val_2d_20k", "dam_break_2d_dsph_val.json", {}, quick ? 20 : 200},
   };
   std::printf("# varsph %s (%s), %s build\n", VARSPH_VERSION, VARSPH_REAL_NAME, VARSPH_BUILD_TYPE);
   std::printf("%-26s %9s %8s %3s %7s %10s %9s %9s %10s\n", "case", "fluid", "boundary", "thr", "neighb",
