@@ -44,7 +44,7 @@ def set_args(sets):
     """sets: dict KEY -> python value (JSON-encoded) or already-encoded string."""
     out = []
     for k, v in (sets or {}).items():
-        val = v if isinstance(v, str) and not v.startswith("@") else json.dumps(v)
+        val = v if isinstance(v, str) else json.dumps(v)  # a string is passed as typed (varsph parses JSON)
         out += ["--set", f"{k}={val}"]
     return out
 
