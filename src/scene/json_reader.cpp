@@ -121,60 +121,44 @@ std::string JsonReader::choice(const std::string& path, std::optional<std::strin
   fail_got(path, "one of " + list, json(x));
 }
 
-std::vector<double> JsonReader::vector(const std::string& path, std::size_t size,
-                                       std::optional<std::vector<double>> def, const std::string& what) {
+// Reads an optional array of T (exactly `size` elements unless size == 0): one place for the
+// missing / wrong-shape / wrong-element-type errors of vector(), bools() and strings().
+template <class T, class IsT>
+std::vector<T> JsonReader::array_of(const std::string& path, std::size_t size, std::optional<std::vector<T>> def,
+                                    const std::string& expected, IsT is_t) {
   const json* v = raw(path);
-  std::vector<double> x;
-  const std::string expected = "an array of " + std::to_string(size) + " numbers (" + what + ")";
+  std::vector<T> x;
   if (!v || v->is_null()) {
     if (!def) fail(path, expected + " (required key is missing)");
     x = *def;
   } else {
-    if (!v->is_array() || v->size() != size) fail_got(path, expected, *v);
+    if (!v->is_array() || (size > 0 && v->size() != size)) fail_got(path, expected, *v);
     for (auto& e : *v) {
-      if (!e.is_number()) fail_got(path, expected, *v);
-      x.push_back(e.get<double>());
+      if (!is_t(e)) fail_got(path, expected, *v);
+      x.push_back(e.template get<T>());
     }
   }
   record(path, x);
   return x;
+}
+
+std::vector<double> JsonReader::vector(const std::string& path, std::size_t size,
+                                       std::optional<std::vector<double>> def, const std::string& what) {
+  return array_of<double>(path, size, std::move(def),
+                          "an array of " + std::to_string(size) + " numbers (" + what + ")",
+                          [](const json& e) { return e.is_number(); });
 }
 
 std::vector<bool> JsonReader::bools(const std::string& path, std::size_t size,
                                     std::optional<std::vector<bool>> def) {
-  const json* v = raw(path);
-  std::vector<bool> x;
-  const std::string expected = "an array of " + std::to_string(size) + " booleans";
-  if (!v || v->is_null()) {
-    if (!def) fail(path, expected + " (required key is missing)");
-    x = *def;
-  } else {
-    if (!v->is_array() || v->size() != size) fail_got(path, expected, *v);
-    for (auto& e : *v) {
-      if (!e.is_boolean()) fail_got(path, expected, *v);
-      x.push_back(e.get<bool>());
-    }
-  }
-  record(path, x);
-  return x;
+  return array_of<bool>(path, size, std::move(def), "an array of " + std::to_string(size) + " booleans",
+                        [](const json& e) { return e.is_boolean(); });
 }
 
 std::vector<std::string> JsonReader::strings(const std::string& path,
                                              std::optional<std::vector<std::string>> def) {
-  const json* v = raw(path);
-  std::vector<std::string> x;
-  if (!v || v->is_null()) {
-    if (!def) fail(path, "an array of strings (required key is missing)");
-    x = *def;
-  } else {
-    if (!v->is_array()) fail_got(path, "an array of strings", *v);
-    for (auto& e : *v) {
-      if (!e.is_string()) fail_got(path, "an array of strings", *v);
-      x.push_back(e.get<std::string>());
-    }
-  }
-  record(path, x);
-  return x;
+  return array_of<std::string>(path, 0, std::move(def), "an array of strings",
+                               [](const json& e) { return e.is_string(); });
 }
 
 std::size_t JsonReader::array_size(const std::string& path) {

@@ -48,6 +48,9 @@ class JsonReader {
 
  private:
   void record(const std::string& path, const json& value);
+  template <class T, class IsT>
+  std::vector<T> array_of(const std::string& path, std::size_t size, std::optional<std::vector<T>> def,
+                          const std::string& expected, IsT is_t);
   json root_;
   json resolved_ = json::object();
   std::string file_;
