@@ -1,11 +1,12 @@
 // Speed of the solver step on the foundation cases (issue "Foundation", section Speed; issue
 // "Performance"): ns per fluid particle-step, fluid particle-steps/s, pair interactions/s and mean
 // neighbours, for 1 and 2 threads. Timings only here, never in tests.
-//   bench_step [--quick] [--case NAME]
+//   bench_step [--quick] [--case NAME] [--set KEY=VALUE ...] [--threads N,M]
 #include <omp.h>
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -44,8 +45,8 @@ double mean_neighbours(const Simulation<D>& sim) {
 }
 
 template <int D>
-void run_case(const scene::Scene& s, const Case& c) {
-  for (int threads : {1, 2}) {
+void run_case(const scene::Scene& s, const Case& c, const std::vector<int>& thread_counts) {
+  for (int threads : thread_counts) {
     omp_set_num_threads(threads);
     Simulation<D> sim(s);
     sim.advance();  // warm-up (first sort moves everything)
@@ -65,9 +66,27 @@ void run_case(const scene::Scene& s, const Case& c) {
 int main(int argc, char** argv) {
   bool quick = false;
   std::string only;
+  std::vector<std::string> sets;  // applied to every case after its own overrides
+  std::vector<int> thread_counts = {1, 2};
   for (int k = 1; k < argc; ++k) {
     if (!std::strcmp(argv[k], "--quick")) quick = true;
     if (!std::strcmp(argv[k], "--case") && k + 1 < argc) only = argv[++k];
+    if (!std::strcmp(argv[k], "--set") && k + 1 < argc) sets.push_back(argv[++k]);
+    if (!std::strcmp(argv[k], "--threads") && k + 1 < argc) {
+      thread_counts.clear();
+      for (const char* p = argv[++k]; *p;) {
+        char* end = nullptr;
+        thread_counts.push_back(int(std::strtol(p, &end, 10)));
+        p = *end == ',' ? end + 1 : end;
+        if (end == p && *p) break;
+      }
+    }
+    if (!std::strcmp(argv[k], "--help") || !std::strcmp(argv[k], "-h")) {
+      std::printf("bench_step [--quick] [--case NAME] [--set KEY=VALUE ...] [--threads 1,2]\n"
+                  "ns per fluid particle-step, fluid particle-steps/s, pair interactions/s (fluid particles x mean\n"
+                  "neighbours) and ms per step of the bundled cases; --set applies scene overrides to every case.\n");
+      return 0;
+    }
   }
   const std::string dir = std::string(VARSPH_SOURCE_DIR) + "/pipelines/";
   std::vector<Case> cases = {
@@ -76,14 +95,18 @@ int main(int argc, char** argv) {
       {"dam_break_2d_430k", "dam_break_2d_paper.json", {"particles.spacing=0.0003125", "integrator.dt=6e-6"}, quick ? 3 : 20},
       {"box_3d_100k", "bench_box_3d.json", {}, quick ? 3 : 20},
       {"dsph_val_2d_20k", "dam_break_2d_dsph_val.json", {}, quick ? 20 : 200},
+      // the same with the paper's Verlet (eq. 60-62: continuity at the new configuration, two sweeps a step)
+      {"dsph_val_2d_20k_paper_verlet", "dam_break_2d_dsph_val.json", {"integrator.type=\"verlet\""}, quick ? 20 : 200},
   };
   std::printf("# varsph %s (%s), %s build\n", VARSPH_VERSION, VARSPH_REAL_NAME, VARSPH_BUILD_TYPE);
   std::printf("%-26s %9s %8s %3s %7s %10s %9s %9s %10s\n", "case", "fluid", "boundary", "thr", "neighb",
               "ns/p-step", "Mp-step/s", "Mpair/s", "ms/step");
   for (const auto& c : cases) {
     if (!only.empty() && c.name.find(only) == std::string::npos) continue;
-    const auto s = scene::parse_scene(dir + c.scene, c.overrides);
-    if (s.dimension == 2) run_case<2>(s, c);
-    else run_case<3>(s, c);
+    std::vector<std::string> overrides = c.overrides;
+    overrides.insert(overrides.end(), sets.begin(), sets.end());
+    const auto s = scene::parse_scene(dir + c.scene, overrides);
+    if (s.dimension == 2) run_case<2>(s, c, thread_counts);
+    else run_case<3>(s, c, thread_counts);
   }
 }

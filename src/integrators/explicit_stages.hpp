@@ -24,14 +24,14 @@ bool summation_mode(const Simulation<D>& sim) {
 // Rates at the state in (x, v, rho); the grid must be valid for x (call sort_and_bin first).
 // Summation: rho = sum_j m_j W_ij (seed eq. 8) is recomputed from x and is not a state variable.
 // Continuity: drho/dt = sum_j m_j v_ij . grad_i W_ij (Monaghan 1992) into fields().drho.
-// Then p = EOS(rho) and a (seed eq. 59) into fields().a.
+// Then p = EOS(rho) and a (seed eq. 59) into fields().a; continuity and forces in one sweep where fused.
 template <int D>
 void evaluate_rates(Simulation<D>& sim) {
   auto& f = sim.fields();
   if (summation_mode(sim)) sim.rates().summation_density(sim.grid(), sim.current_view(), f.rho.data.data());
   sim.update_pressure();
-  if (!summation_mode(sim)) sim.rates().density_rate(sim.grid(), sim.current_view(), f.drho.data.data());
-  sim.rates().acceleration(sim.grid(), sim.current_view(), f.a.data.data());
+  if (summation_mode(sim)) sim.rates().acceleration(sim.grid(), sim.current_view(), f.a.data.data());
+  else sim.rates().density_rate_and_acceleration(sim.grid(), sim.current_view(), f.drho.data.data(), f.a.data.data());
 }
 
 // Scratch registered in the particle store (so sort_and_bin permutes it with everything else);

@@ -5,6 +5,7 @@
 #include "integrators/symplectic_euler.hpp"
 #include "integrators/variational.hpp"
 #include "integrators/verlet.hpp"
+#include "integrators/verlet_dsph.hpp"
 
 namespace varsph {
 
@@ -16,9 +17,10 @@ std::unique_ptr<Integrator<D>> make_integrator(const scene::Scene& s) {
   if (s.integrator == "symplectic_euler") return std::make_unique<SymplecticEulerIntegrator<D>>();
   if (s.integrator == "predictor_corrector") return std::make_unique<PredictorCorrectorIntegrator<D>>();
   if (s.integrator == "rk4") return std::make_unique<Rk4Integrator<D>>();
+  if (s.integrator == "verlet_dsph") return std::make_unique<VerletDsphIntegrator<D>>(s.euler_every);
   throw InputError(s.file.string() + ": key 'integrator.type': \"" + s.integrator +
                    "\" is not available in this build (available: \"verlet\", \"variational\", "
-                   "\"symplectic_euler\", \"predictor_corrector\", \"rk4\")");
+                   "\"symplectic_euler\", \"predictor_corrector\", \"rk4\", \"verlet_dsph\")");
 }
 
 template std::unique_ptr<Integrator<2>> make_integrator<2>(const scene::Scene&);

@@ -33,6 +33,7 @@ constexpr bool walls_evolve_density = (M == BoundaryModel::Dynamic);
 // drho_i/dt = sum_j m_j (v_i - v_j) . grad_i W_ij  [+ density diffusion, fluid-fluid pairs]
 template <int D, class Kernel, BoundaryModel M, class Diffusion = NoDensityDiffusion>
 struct DensityRatePass {
+  static constexpr BoundaryModel model = M;
   const Kernel& W;
   const ParticleView<D>& s;
   Real* drho;
@@ -42,7 +43,10 @@ struct DensityRatePass {
   void pair(Real& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     if constexpr (!walls_in_continuum<M>)
       if (s.kind[j] != kFluid) return;
-    const Real F = W.grad_factor_r2(r2);
+    pair_F(acc, i, j, xij, W.grad_factor_r2(r2));
+  }
+  // The pair term given F (grad_i W_ij = F x_ij) for a neighbour in the continuum (FusedRatesPass).
+  void pair_F(Real& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real F) const {
     acc += s.mass[j] * F * (s.v[i] - s.v[j]).dot(xij);
     if constexpr (Diffusion::enabled)
       if (s.kind[i] == kFluid && s.kind[j] == kFluid) acc += diff.term(s.rho[i], s.rho[j], s.mass[j], F, xij);
@@ -72,6 +76,7 @@ struct SummationDensityPass {
 // the body acceleration (gravity eq. 59, ramped, plus physics.body_force).
 template <int D, class Kernel, class Viscosity, BoundaryModel M>
 struct AccelerationPass {
+  static constexpr BoundaryModel model = M;
   const Kernel& W;
   const Viscosity& visc;
   const RepulsiveWall& wall;
@@ -88,16 +93,19 @@ struct AccelerationPass {
   bool active(std::size_t i) const { return s.kind[i] == kFluid; }
   Acc begin(std::size_t i) const { return {Vec<D>::Zero(), p_over_rho2[i]}; }
   void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
-    const bool j_fluid = s.kind[j] == kFluid;
     if constexpr (M == BoundaryModel::Repulsive) {
-      if (!j_fluid) {
+      if (s.kind[j] != kFluid) {
         acc.a += wall.factor(r2) * xij;  // eq. (58)
         return;
       }
     }
+    pair_F(acc, i, j, xij, r2, W.grad_factor_r2(r2));  // grad_i W_ij = F x_ij
+  }
+  // The pair term given F for a fluid neighbour or a wall in the continuum (FusedRatesPass).
+  void pair_F(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2, Real F) const {
+    const bool j_fluid = s.kind[j] == kFluid;
     if constexpr (M == BoundaryModel::SoftRepulsive)
       if (!j_fluid) acc.a += soft->factor(r2) * xij;  // Chalk 2020
-    const Real F = W.grad_factor_r2(r2);  // grad_i W_ij = F x_ij
     Real coef = acc.p_over_rho2 + p_over_rho2[j];
     if constexpr (Viscosity::enabled) {
       const Vec<D> vij = s.v[i] - ((M == BoundaryModel::Repulsive || j_fluid) ? s.v[j] : vw[j]);
@@ -108,6 +116,41 @@ struct AccelerationPass {
     acc.a -= (s.mass[j] * coef * F) * xij;
   }
   void end(std::size_t i, const Acc& acc) const { acc_out[i] = acc.a + gravity; }
+};
+
+// Continuity and acceleration in one neighbour sweep (issue 9: "density and force passes fused where
+// the scheme allows"): both at the same state, F computed once per pair. Per particle the two sums are
+// accumulated in the same order as by the separate passes, so the results are bitwise identical.
+template <int D, class DensityPass, class AccelPass>
+struct FusedRatesPass {
+  const DensityPass& dens;  // DensityRatePass (its model: Dynamic walls evolve their density)
+  const AccelPass& accel;   // AccelerationPass (dynamic walls use the dummy-wall pressure pass)
+  using AccelAcc = typename AccelPass::Acc;
+  struct Acc {
+    Real drho;
+    AccelAcc a;
+    bool fluid;
+  };
+  bool active(std::size_t i) const { return dens.active(i); }  // fluid, and dynamic walls
+  Acc begin(std::size_t i) const {
+    const bool fluid = accel.active(i);
+    return {dens.begin(i), fluid ? accel.begin(i) : AccelAcc{Vec<D>::Zero(), Real(0)}, fluid};
+  }
+  void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
+    if constexpr (AccelPass::model == BoundaryModel::Repulsive) {
+      if (dens.s.kind[j] != kFluid) {  // not in the continuum: only the eq. (58) force
+        if (acc.fluid) acc.a.a += accel.wall.factor(r2) * xij;
+        return;
+      }
+    }
+    const Real F = dens.W.grad_factor_r2(r2);
+    dens.pair_F(acc.drho, i, j, xij, F);
+    if (acc.fluid) accel.pair_F(acc.a, i, j, xij, r2, F);
+  }
+  void end(std::size_t i, const Acc& acc) const {
+    dens.end(i, acc.drho);
+    if (acc.fluid) accel.end(i, acc.a);
+  }
 };
 
 // Force of the fluid on boundary particles (probes: force and moment on a body). For boundary particle

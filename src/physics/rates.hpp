@@ -21,6 +21,14 @@ class Rates {
   // accelerations of fluid particles (boundary particles untouched), with the named optional terms
   // (artificial stress, damping) applied.
   virtual void acceleration(const NeighborGrid<D>& grid, const ParticleView<D>& s, Vec<D>* a) const = 0;
+  // density_rate and acceleration at the same state in one neighbour sweep where this build compiles
+  // the fused pass (tabulated kernels, the default); otherwise the two passes. Results are identical.
+  virtual void density_rate_and_acceleration(const NeighborGrid<D>& grid, const ParticleView<D>& s, Real* drho,
+                                             Vec<D>* a) const {
+    density_rate(grid, s, drho);
+    acceleration(grid, s, a);
+  }
+  virtual bool fused() const { return false; }  // true when density_rate_and_acceleration is one sweep
   // force of the fluid on every boundary particle (BoundaryReactionPass; fluid slots untouched) [N]
   virtual void boundary_reaction(const NeighborGrid<D>& grid, const ParticleView<D>& s, Vec<D>* force) const = 0;
   virtual Real support() const = 0;

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "kernels/tabulated.hpp"
 #include "physics/pair_loop.hpp"
 #include "physics/passes.hpp"
 #include "physics/rates.hpp"
@@ -23,6 +24,7 @@ class RatesImpl final : public Rates<D> {
         stress_(p.as_eps, W_.w_r2(p.dx * p.dx), p.as_n), eos_(p.rho0, p.c0, p.background_pressure) {
     pick_acceleration();
     pick_density();
+    if constexpr (std::is_same_v<Kernel, kernels::Tabulated<D>>) pick_fused();
     set_time(0);
   }
 
@@ -34,6 +36,17 @@ class RatesImpl final : public Rates<D> {
   }
   void acceleration(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) const override {
     acc_fn_(*this, g, s, a);
+    add_optional_accelerations(g, s, a);
+  }
+  void density_rate_and_acceleration(const NeighborGrid<D>& g, const ParticleView<D>& s, Real* drho,
+                                     Vec<D>* a) const override {
+    if (!fused_fn_) return Rates<D>::density_rate_and_acceleration(g, s, drho, a);
+    fused_fn_(*this, g, s, drho, a);
+    add_optional_accelerations(g, s, a);
+  }
+  bool fused() const override { return fused_fn_ != nullptr; }
+  // artificial stress and damping, each its own loop and only when named
+  void add_optional_accelerations(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) const {
     if (p_.tensile == TensileFix::ArtificialStress) {
       ArtificialStressPass<D, Kernel> pass{W_, stress_, s, a};
       for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
@@ -108,6 +121,20 @@ class RatesImpl final : public Rates<D> {
     BoundaryReactionPass<D, Acc> pass{acc, s, f};
     for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
   }
+  // the fused continuity + acceleration sweep (FusedRatesPass), same terms as run_drho + run_acc
+  // the fused continuity + acceleration sweep (FusedRatesPass): MD is the wall model of the continuity
+  // pass, MA that of the acceleration pass (dynamic walls: Dynamic / DummyAdami, as pick_* choose)
+  template <class Visc, BoundaryModel MD, BoundaryModel MA, class Diff>
+  static void run_fused(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Real* drho,
+                        Vec<D>* a) {
+    const Visc visc = r.template viscosity<Visc>();
+    using Dens = DensityRatePass<D, Kernel, MD, Diff>;
+    using Accel = AccelerationPass<D, Kernel, Visc, MA>;
+    const Dens dens{r.W_, s, drho, r.template diffusion<Diff>()};
+    const Accel accel{r.W_, visc, r.wall_, s, r.g_eff_, a, &r.soft_, r.pressure_terms(s)};
+    FusedRatesPass<D, Dens, Accel> pass{dens, accel};
+    for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
+  }
   template <BoundaryModel M, class Diff>
   static void run_drho(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Real* drho) {
     DensityRatePass<D, Kernel, M, Diff> pass{r.W_, s, drho, r.template diffusion<Diff>()};
@@ -167,6 +194,40 @@ class RatesImpl final : public Rates<D> {
     }
   }
 
+  // The fused sweep is compiled for the tabulated kernels only (the default and the fast path): the
+  // exact kernels serve as references and keep the two separate passes.
+  template <class Visc, class Diff>
+  void fused_for_wall() {
+    switch (p_.boundary) {
+      case BoundaryModel::Repulsive:
+        fused_fn_ = &run_fused<Visc, BoundaryModel::Repulsive, BoundaryModel::Repulsive, Diff>;
+        return;
+      case BoundaryModel::Dynamic:
+        fused_fn_ = &run_fused<Visc, BoundaryModel::Dynamic, BoundaryModel::DummyAdami, Diff>;
+        return;
+      case BoundaryModel::DummyAdami:
+        fused_fn_ = &run_fused<Visc, BoundaryModel::DummyAdami, BoundaryModel::DummyAdami, Diff>;
+        return;
+      case BoundaryModel::SoftRepulsive:
+        fused_fn_ = &run_fused<Visc, BoundaryModel::DummyAdami, BoundaryModel::SoftRepulsive, Diff>;
+        return;
+    }
+  }
+  template <class Visc>
+  void fused_for_diffusion() {
+    switch (p_.diffusion) {
+      case DensityDiffusion::None: fused_for_wall<Visc, NoDensityDiffusion>(); return;
+      case DensityDiffusion::Molteni: fused_for_wall<Visc, MolteniDiffusion>(); return;
+      case DensityDiffusion::Fourtakas: fused_for_wall<Visc, FourtakasDiffusion<D>>(); return;
+    }
+  }
+  void pick_fused() {
+    if (p_.artificial_viscosity && p_.laminar_viscosity) fused_for_diffusion<ArtificialAndLaminarViscosity>();
+    else if (p_.artificial_viscosity) fused_for_diffusion<ArtificialViscosity>();
+    else if (p_.laminar_viscosity) fused_for_diffusion<LaminarViscosity>();
+    else fused_for_diffusion<NoViscosity>();
+  }
+
   PhysicsParams<D> p_;
   Kernel W_;
   RepulsiveWall wall_;
@@ -180,6 +241,8 @@ class RatesImpl final : public Rates<D> {
   AccFn acc_fn_ = nullptr, react_fn_ = nullptr;
   mutable std::vector<Real> p_over_rho2_;  // scratch of the acceleration pass
   RhoFn drho_fn_ = nullptr, sum_fn_ = nullptr;
+  using FusedFn = void (*)(const RatesImpl&, const NeighborGrid<D>&, const ParticleView<D>&, Real*, Vec<D>*);
+  FusedFn fused_fn_ = nullptr;
 };
 
 template <int D, class Kernel>

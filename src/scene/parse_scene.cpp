@@ -233,7 +233,13 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   }
 
   s.integrator = r.choice("integrator.type", "verlet",
-                          {"verlet", "variational", "symplectic_euler", "rk4", "predictor_corrector"});
+                          {"verlet", "variational", "symplectic_euler", "rk4", "predictor_corrector",
+                           "verlet_dsph"});
+  if (s.integrator == "verlet_dsph") {
+    s.euler_every = int(r.integer("integrator.euler_every", 40, 1, 1000000));
+    if (s.density != "continuity")
+      r.fail("physics.density", "\"continuity\" with integrator.type \"verlet_dsph\" (one fused sweep per step)");
+  }
   if (r.has("integrator.dt")) s.dt = r.positive("integrator.dt", std::nullopt, "time step dt [s]");
   if (r.has("integrator.cfl")) s.cfl = r.number("integrator.cfl", std::nullopt, 1e-6, 1.0, "CFL number");
   if (!s.dt && !s.cfl) r.fail("integrator.dt", "integrator.dt [s] or integrator.cfl (one of them is required)");

@@ -89,6 +89,7 @@ struct Scene {
   std::optional<double> fp_absolute_tolerance;  // [m], the paper's epsilon
   int fp_max_iterations = 50;
   std::string fp_on_failure = "fail";
+  int euler_every = 40;  // integrator.euler_every (verlet_dsph): an Euler step every N steps
 
   double t_end = 0;
   double output_every = 0;

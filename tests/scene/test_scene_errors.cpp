@@ -63,6 +63,11 @@ TEST(SceneErrors, EachMalformedInputNamesItsKey) {
       {"--set wrong type", [](json&) {}, {"time.end=soon"}, "'time.end'"},
       {"both dt and cfl", [](json& j) { j["integrator"]["cfl"] = 0.2; }, {}, "only one of"},
       {"zero end time", [](json& j) { j["time"]["end"] = 0; }, {}, "'time.end'"},
+      {"verlet_dsph needs continuity",
+       [](json& j) { j["integrator"]["type"] = "verlet_dsph"; j["physics"]["density"] = "summation"; }, {},
+       "'physics.density'"},
+      {"verlet_dsph euler_every", [](json& j) { j["integrator"]["type"] = "verlet_dsph"; j["integrator"]["euler_every"] = 0; },
+       {}, "'integrator.euler_every'"},
   };
   for (const auto& c : cases) {
     json j = base_scene();

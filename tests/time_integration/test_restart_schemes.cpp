@@ -15,7 +15,7 @@ using namespace varsph;
 
 TEST(RestartSchemes, SnapshotRestartIsBitwiseIdentical) {
   const auto file = test::source_dir() / "pipelines" / "dam_break_2d_paper.json";
-  for (const char* type : {"symplectic_euler", "predictor_corrector", "rk4"}) {
+  for (const char* type : {"symplectic_euler", "predictor_corrector", "rk4", "verlet_dsph"}) {
     nlohmann::json j = scene::read_json_file(file);
     j["integrator"] = {{"type", type}, {"cfl", 0.2}};
     j["physics"]["shepard_reinit"] = {{"every", 7}};
