@@ -101,8 +101,10 @@ int main(int argc, char** argv) {
   std::printf("# varsph %s (%s), %s build\n", VARSPH_VERSION, VARSPH_REAL_NAME, VARSPH_BUILD_TYPE);
   std::printf("%-26s %9s %8s %3s %7s %10s %9s %9s %10s\n", "case", "fluid", "boundary", "thr", "neighb",
               "ns/p-step", "Mp-step/s", "Mpair/s", "ms/step");
+  bool exact = false;  // --case NAME picks that case alone when a case has exactly that name
+  for (const auto& c : cases) exact = exact || c.name == only;
   for (const auto& c : cases) {
-    if (!only.empty() && c.name.find(only) == std::string::npos) continue;
+    if (!only.empty() && (exact ? c.name != only : c.name.find(only) == std::string::npos)) continue;
     std::vector<std::string> overrides = c.overrides;
     overrides.insert(overrides.end(), sets.begin(), sets.end());
     const auto s = scene::parse_scene(dir + c.scene, overrides);

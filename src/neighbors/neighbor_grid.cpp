@@ -116,17 +116,15 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
   }
   // blocks: occupied cells in cell order
   blocks_.clear();
-  cell_block_.assign(std::size_t(n_cells), -1);
-  for (std::int64_t c = 0; c < n_cells; ++c) {
-    if (count_[c + 1] > count_[c]) {
-      cell_block_[c] = std::int64_t(blocks_.size());
-      blocks_.push_back({count_[c], count_[c + 1], 0, 0});
-    }
-  }
-  // neighbour ranges of every block, in two parallel passes (count, then fill) so the layout is the
-  // same for any thread count
+  for (std::int64_t c = 0; c < n_cells; ++c)
+    if (count_[c + 1] > count_[c]) blocks_.push_back({count_[c], count_[c + 1], 0, 0});
+  // Neighbour ranges of every block: the stencil cells of one row (fixed offsets on the axes above x)
+  // are consecutive cell keys, so their particles are one slice of the sorted order, read from the
+  // prefix sums count_: (2m+1)^(D-1) ranges per block (split only where x wraps periodically), in
+  // the order of the cell offsets (x fastest). Two parallel passes (count, then fill) so the layout is
+  // the same for any thread count.
   const int w = 2 * m_ + 1;
-  const int n_off = D == 2 ? w * w : w * w * w;
+  const int n_rows = D == 2 ? w : w * w;
   auto visit = [&](const CellBlock& b, auto&& emit) {
     std::uint64_t k = key_[perm[b.begin]];
     Coord c;
@@ -136,36 +134,46 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
     }
     NeighborRange pending{0, 0, 0};
     bool have = false;
-    for (int o = 0; o < n_off; ++o) {
-      int t = o;
-      Coord nc;
+    auto push = [&](std::uint32_t begin, std::uint32_t end, std::uint32_t shift) {
+      if (begin == end) return;
+      if (have && pending.end == begin && pending.shift == shift) {
+        pending.end = end;  // contiguous in memory with the previous slice: extend it
+      } else {
+        if (have) emit(pending);
+        pending = {begin, end, shift};
+        have = true;
+      }
+    };
+    for (int row = 0; row < n_rows; ++row) {
       std::array<int, D> wrap{};
+      std::uint64_t row_key = 0;  // key of cell (0, c_y + dy[, c_z + dz])
       bool valid = true;
-      for (int a = 0; a < D; ++a) {
-        const int d = t % w - m_;
-        t /= w;
-        nc[a] = c[a] + d;
-        if (nc[a] < 0 || nc[a] >= dims_[a]) {
-          if (!opt_.periodic[a]) { valid = false; break; }
-          // the neighbour cell is the periodic image: x_j seen at x_j -/+ L
-          wrap[a] = nc[a] < 0 ? -1 : 1;
-          nc[a] = (nc[a] + dims_[a]) % dims_[a];
+      {
+        int t = row;
+        std::uint64_t mul = std::uint64_t(dims_[0]);
+        for (int a = 1; a < D; ++a) {
+          const int d = t % w - m_;
+          t /= w;
+          std::int64_t nc = c[a] + d;
+          if (nc < 0 || nc >= dims_[a]) {
+            if (!opt_.periodic[a]) { valid = false; break; }
+            wrap[a] = nc < 0 ? -1 : 1;  // the neighbour row is the periodic image: x_j seen at x_j -/+ L
+            nc = (nc + dims_[a]) % dims_[a];
+          }
+          row_key += std::uint64_t(nc) * mul;
+          mul *= std::uint64_t(dims_[a]);
         }
       }
       if (!valid) continue;
-      std::uint64_t nk = 0;
-      for (int a = D - 1; a >= 0; --a) nk = nk * std::uint64_t(dims_[a]) + std::uint64_t(nc[a]);
-      const std::int64_t nb = cell_block_[nk];
-      if (nb < 0) continue;
-      const NeighborRange nr{blocks_[nb].begin, blocks_[nb].end, shift_id(wrap)};
-      // cells adjacent along x are adjacent in memory: extend the pending range
-      if (have && pending.end == nr.begin && pending.shift == nr.shift) {
-        pending.end = nr.end;
-      } else {
-        if (have) emit(pending);
-        pending = nr;
-        have = true;
-      }
+      // x offsets -m..m: at most three runs (wrapped below 0, inside, wrapped above dims-1)
+      const std::int64_t lo = c[0] - m_, hi = c[0] + m_, nx = dims_[0];
+      auto slice = [&](std::int64_t x0, std::int64_t x1, int wx) {  // cells x0..x1 of this row
+        wrap[0] = wx;
+        push(count_[row_key + std::uint64_t(x0)], count_[row_key + std::uint64_t(x1) + 1], shift_id(wrap));
+      };
+      if (lo < 0 && opt_.periodic[0]) slice(lo + nx, nx - 1, -1);
+      slice(std::max<std::int64_t>(lo, 0), std::min<std::int64_t>(hi, nx - 1), 0);
+      if (hi >= nx && opt_.periodic[0]) slice(0, hi - nx, 1);
     }
     if (have) emit(pending);
   };

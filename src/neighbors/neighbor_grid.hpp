@@ -70,7 +70,6 @@ class NeighborGrid {
   // scratch reused between builds (no allocation after the first build of a given size)
   std::vector<std::uint64_t> key_;
   std::vector<std::uint32_t> count_;
-  std::vector<std::int64_t> cell_block_;  // uniform: cell -> block index or -1
   std::vector<Coord> coords_;
   std::vector<std::uint32_t> bucket_start_;  // hashed: bucket -> first block
 };

@@ -38,6 +38,7 @@ struct DensityRatePass {
   const ParticleView<D>& s;
   Real* drho;
   Diffusion diff{};
+  const Real* volume = nullptr;  // m_j / rho_j per particle (only read with density diffusion)
   bool active(std::size_t i) const { return s.kind[i] == kFluid || walls_evolve_density<M>; }
   Real begin(std::size_t) const { return Real(0); }
   void pair(Real& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
@@ -49,7 +50,7 @@ struct DensityRatePass {
   void pair_F(Real& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real F) const {
     acc += s.mass[j] * F * (s.v[i] - s.v[j]).dot(xij);
     if constexpr (Diffusion::enabled)
-      if (s.kind[i] == kFluid && s.kind[j] == kFluid) acc += diff.term(s.rho[i], s.rho[j], s.mass[j], F, xij);
+      if (s.kind[i] == kFluid && s.kind[j] == kFluid) acc += diff.term(s.rho[i], s.rho[j], volume[j], F, xij);
   }
   void end(std::size_t i, Real acc) const { drho[i] = acc; }
 };

@@ -106,6 +106,15 @@ class RatesImpl final : public Rates<D> {
     for_each_particle(s.size(), [&](std::size_t i) { pr[i] = s.p[i] / (s.rho[i] * s.rho[i]); });
     return pr;
   }
+  // m / rho of every particle for the density-diffusion term (none without it)
+  template <class Diff>
+  const Real* volumes(const ParticleView<D>& s) const {
+    if constexpr (!Diff::enabled) return nullptr;
+    volume_.resize(s.size());
+    Real* V = volume_.data();
+    for_each_particle(s.size(), [&](std::size_t i) { V[i] = s.mass[i] / s.rho[i]; });
+    return V;
+  }
   template <class Visc, BoundaryModel M>
   static void run_acc(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) {
     const Visc visc = r.template viscosity<Visc>();
@@ -130,14 +139,14 @@ class RatesImpl final : public Rates<D> {
     const Visc visc = r.template viscosity<Visc>();
     using Dens = DensityRatePass<D, Kernel, MD, Diff>;
     using Accel = AccelerationPass<D, Kernel, Visc, MA>;
-    const Dens dens{r.W_, s, drho, r.template diffusion<Diff>()};
+    const Dens dens{r.W_, s, drho, r.template diffusion<Diff>(), r.template volumes<Diff>(s)};
     const Accel accel{r.W_, visc, r.wall_, s, r.g_eff_, a, &r.soft_, r.pressure_terms(s)};
     FusedRatesPass<D, Dens, Accel> pass{dens, accel};
     for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
   }
   template <BoundaryModel M, class Diff>
   static void run_drho(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Real* drho) {
-    DensityRatePass<D, Kernel, M, Diff> pass{r.W_, s, drho, r.template diffusion<Diff>()};
+    DensityRatePass<D, Kernel, M, Diff> pass{r.W_, s, drho, r.template diffusion<Diff>(), r.template volumes<Diff>(s)};
     for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
   }
   template <BoundaryModel M>
@@ -240,6 +249,7 @@ class RatesImpl final : public Rates<D> {
   bool damping_on_ = false;
   AccFn acc_fn_ = nullptr, react_fn_ = nullptr;
   mutable std::vector<Real> p_over_rho2_;  // scratch of the acceleration pass
+  mutable std::vector<Real> volume_;       // scratch of the density-diffusion term
   RhoFn drho_fn_ = nullptr, sum_fn_ = nullptr;
   using FusedFn = void (*)(const RatesImpl&, const NeighborGrid<D>&, const ParticleView<D>&, Real*, Vec<D>*);
   FusedFn fused_fn_ = nullptr;
