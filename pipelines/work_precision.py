@@ -31,7 +31,7 @@ import case_taylor_green  # noqa: E402
 import case_poiseuille  # noqa: E402
 
 INTEGRATORS = [("verlet", None), ("variational", 0.25), ("variational", 0.5), ("variational", 0.75),
-               ("symplectic_euler", None), ("rk4", None), ("predictor_corrector", None)]
+               ("symplectic_euler", None), ("rk4", None), ("predictor_corrector", None), ("verlet_dsph", None)]
 
 # peers of the issue: (label, dx, wall s per simulated s, RMS unshifted, RMS at best shift)
 PEERS = [("DualSPHysics 5.4", 0.005, 18.5, 0.127, 0.0088), ("DualSPHysics 5.4", 0.0025, 167, 0.147, 0.0092),
@@ -99,7 +99,8 @@ def plot(rows, path):
     import matplotlib.pyplot as plt
     cases = [c for c in CASES if any(r["case"] == c for r in rows)]
     fig, axes = plt.subplots(1, len(cases), figsize=(5.2 * len(cases), 4.4), squeeze=False)
-    markers = {"verlet": "o", "variational": "s", "symplectic_euler": "^", "rk4": "D", "predictor_corrector": "v"}
+    markers = {"verlet": "o", "variational": "s", "symplectic_euler": "^", "rk4": "D", "predictor_corrector": "v",
+               "verlet_dsph": "P"}
     for ax, case in zip(axes[0], cases):
         rs = [r for r in rows if r["case"] == case and np.isfinite(r["error"])]
         labels = sorted({r["label"] for r in rs})
@@ -174,7 +175,8 @@ def main():
                 if alpha is not None:
                     sets["integrator.alpha"] = alpha
                 if not vc.integrator_available(info_scene, itype, alpha):
-                    print(f"{case}: integrator {itype} not available in this build: skipped", flush=True)
+                    print(f"{case}: integrator {itype} not available in this build or not applicable to the scene "
+                          f"(`varsph info` refuses it): skipped", flush=True)
                     continue
                 label = itype + (f" a={alpha:g}" if alpha is not None else "")
                 for dx in dxs:
