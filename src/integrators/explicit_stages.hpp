@@ -74,6 +74,7 @@ struct StageScratch {
 template <int D>
 void finish_step(Simulation<D>& sim) {
   sim.sort_and_bin();
+  sim.apply_shifting();  // physics.shifting (no-op unless named)
   auto& f = sim.fields();
   if (summation_mode(sim)) sim.rates().summation_density(sim.grid(), sim.current_view(), f.rho.data.data());
   sim.update_pressure();

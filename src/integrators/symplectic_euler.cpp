@@ -21,6 +21,7 @@ StepReport SymplecticEulerIntegrator<D>::step(Simulation<D>& sim) {
     x[i] += dt * v[i];  // x_{n+1} = x_n + dt v_{n+1}
   });
   sim.sort_and_bin();
+  sim.apply_shifting();  // physics.shifting (no-op unless named)
   sim.update_density_after_move(dt);  // rho_{n+1} from (x_{n+1}, v_{n+1}), then p_{n+1}
   return {};
 }

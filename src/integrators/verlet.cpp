@@ -38,6 +38,7 @@ void verlet_step(Simulation<D>& sim) {
     });
   }
   sim.sort_and_bin();
+  sim.apply_shifting();  // physics.shifting (no-op unless named)
   sim.update_density_after_move(dt);
 }
 

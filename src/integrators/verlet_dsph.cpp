@@ -52,6 +52,7 @@ StepReport VerletDsphIntegrator<D>::step(Simulation<D>& sim) {
     rhom1[i] = rn;
   });
   sim.sort_and_bin();
+  sim.apply_shifting();  // physics.shifting (no-op unless named)
   sim.update_pressure();
   return {};
 }

@@ -2,6 +2,7 @@
 // The physics a scene names, resolved once at setup into plain values (SI units).
 #include "core/real.hpp"
 #include "kernels/kernel_type.hpp"
+#include "physics/shifting.hpp"
 
 namespace varsph::physics {
 
@@ -49,6 +50,7 @@ struct PhysicsParams {
   TensileFix tensile = TensileFix::None;
   Real as_eps = Real(0.2);  // Monaghan 2000 artificial stress epsilon
   Real as_n = Real(4);      // exponent n of f_ij = (W(r)/W(dx))^n
+  ShiftingParams shifting;  // particle shifting (physics/shifting.hpp); off unless named
 };
 
 }  // namespace varsph::physics

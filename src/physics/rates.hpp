@@ -48,6 +48,10 @@ class Rates {
   // XSPH velocity correction (zero-cost when physics.xsph is not named: xsph_enabled() false).
   virtual bool xsph_enabled() const { return false; }
   virtual void xsph(const NeighborGrid<D>&, const ParticleView<D>&, Vec<D>* /*out*/) const {}
+  // Particle shifting displacement dr of fluid particles for a step of length dt (physics.shifting;
+  // physics/shifting.hpp). Off unless named: shifting_enabled() false, shifting() never called.
+  virtual bool shifting_enabled() const { return false; }
+  virtual void shifting(const NeighborGrid<D>&, const ParticleView<D>&, Real /*dt*/, Vec<D>* /*out*/) const {}
 };
 
 template <int D>

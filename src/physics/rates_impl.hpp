@@ -86,6 +86,16 @@ class RatesImpl final : public Rates<D> {
     XsphPass<D, Kernel> pass{W_, s, p_.xsph_eps, out};
     for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
   }
+  bool shifting_enabled() const override { return p_.shifting.enabled; }
+  void shifting(const NeighborGrid<D>& g, const ParticleView<D>& s, Real dt, Vec<D>* out) const override {
+    Real vmax = 0;  // global max fluid speed ("max" mode; Sun 2017), a max: order-independent
+    if (p_.shifting.global_speed)
+      for (std::size_t i = 0; i < s.size(); ++i)
+        if (s.kind[i] == kFluid) vmax = std::max(vmax, s.v[i].norm());
+    ShiftingPass<D, Kernel> pass{W_, s, p_.shifting, p_.h, dt, p_.rho0, p_.shifting.max_shift * p_.dx,
+                                 Real(1) / W_.w_r2(p_.dx * p_.dx), vmax, out};
+    for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+  }
 
  private:
   using AccFn = void (*)(const RatesImpl&, const NeighborGrid<D>&, const ParticleView<D>&, Vec<D>*);

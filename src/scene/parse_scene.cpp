@@ -211,6 +211,19 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
     s.as_n = r.number("physics.tensile_instability.n", 4, 1, 16, "exponent n of (W/W(dx))^n");
   }
 
+  if (object_key("physics.shifting", "an object {coefficient, velocity, tensile_R, tensile_n, free_surface, "
+                                     "free_surface_threshold, max_shift}")) {
+    s.shifting = true;
+    s.shift_A = r.number("physics.shifting.coefficient", 2.0, 0, 100, "A in D = A h |v| dt");
+    s.shift_velocity = r.choice("physics.shifting.velocity", "local", {"local", "max"});
+    s.shift_R = r.number("physics.shifting.tensile_R", 0.2, 0, 10, "R of 1 + R (W/W(dx))^n (Sun 2017)");
+    s.shift_n = int(r.integer("physics.shifting.tensile_n", 4, 1, 16));
+    s.shift_free_surface = r.choice("physics.shifting.free_surface", "zero", {"none", "zero"});
+    s.shift_fs_threshold = r.number("physics.shifting.free_surface_threshold", d == 2 ? 1.5 : 2.75, 0, d,
+                                    "div r below which a particle is at the free surface");
+    s.shift_max = r.number("physics.shifting.max_shift", 0.1, 1e-6, 0.5, "cap on |dr| per step in units of dx");
+  }
+
   s.boundary_model =
       r.choice("boundary.model", "repulsive", {"repulsive", "dynamic", "dummy_adami", "soft_repulsive"});
   if (s.boundary_model == "dummy_adami" || s.boundary_model == "soft_repulsive")
@@ -242,6 +255,10 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   }
   if (r.has("integrator.dt")) s.dt = r.positive("integrator.dt", std::nullopt, "time step dt [s]");
   if (r.has("integrator.cfl")) s.cfl = r.number("integrator.cfl", std::nullopt, 1e-6, 1.0, "CFL number");
+  if (s.shifting && s.integrator != "verlet" && s.integrator != "symplectic_euler" &&
+      s.integrator != "predictor_corrector" && s.integrator != "rk4" && s.integrator != "verlet_dsph")
+    r.fail("physics.shifting", "an explicit integrator that applies it (verlet, symplectic_euler, predictor_corrector, "
+                               "rk4, verlet_dsph); integrator.type \"" + s.integrator + "\" does not shift particles");
   if (!s.dt && !s.cfl) r.fail("integrator.dt", "integrator.dt [s] or integrator.cfl (one of them is required)");
   if (s.dt && s.cfl) r.fail("integrator.cfl", "only one of integrator.dt and integrator.cfl");
   s.alpha = r.number("integrator.alpha", s.integrator == "variational" ? 0.5 : 1.0, 0, 1, "alpha in [0, 1]");

@@ -73,6 +73,15 @@ struct Scene {
   double diffusion_delta = 0.1;
   std::string tensile = "none";          // physics.tensile_instability.type: none | artificial_stress
   double as_eps = 0.2, as_n = 4;
+  // physics.shifting (particle shifting, physics/shifting.hpp); off unless named
+  bool shifting = false;
+  double shift_A = 2;                      // physics.shifting.coefficient [-]
+  std::string shift_velocity = "local";    // physics.shifting.velocity: local | max
+  double shift_R = 0.2;                    // physics.shifting.tensile_R [-]
+  int shift_n = 4;                         // physics.shifting.tensile_n [-]
+  std::string shift_free_surface = "zero";  // physics.shifting.free_surface: none | zero
+  double shift_fs_threshold = 1.5;         // physics.shifting.free_surface_threshold [-] (div r)
+  double shift_max = 0.1;                  // physics.shifting.max_shift [dx]
 
   // boundary.*
   std::string boundary_model = "repulsive";  // "repulsive" | "dynamic" | "dummy_adami" | "soft_repulsive"

@@ -54,6 +54,13 @@ std::string describe(const scene::Scene& s) {
     << (s.laminar_viscosity ? "laminar (nu " + std::to_string(s.nu) + " m^2/s)" : std::string(""))
     << (!s.artificial_viscosity && !s.laminar_viscosity ? "none" : "") << "\n"
     << "density diffusion  " << s.density_diffusion << "\n"
+    << "shifting           "
+    << (s.shifting ? "A " + std::to_string(s.shift_A) + ", velocity " + s.shift_velocity + ", R " +
+                         std::to_string(s.shift_R) + ", n " + std::to_string(s.shift_n) + ", free surface " +
+                         s.shift_free_surface + " (div r < " + std::to_string(s.shift_fs_threshold) +
+                         "), max " + std::to_string(s.shift_max) + " dx per step"
+                   : std::string("none"))
+    << "\n"
     << "boundary           " << s.boundary_model << " (D " << s.wall_D << " m^2/s^2, r0 " << s.wall_r0 << " m)\n"
     << "integrator         " << s.integrator << " (alpha " << s.alpha << ")\n";
   const double acoustic = s.h / s.c0;

@@ -54,6 +54,14 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
   p.tensile = s.tensile == "artificial_stress" ? physics::TensileFix::ArtificialStress : physics::TensileFix::None;
   p.as_eps = Real(s.as_eps);
   p.as_n = Real(s.as_n);
+  p.shifting.enabled = s.shifting;
+  p.shifting.A = Real(s.shift_A);
+  p.shifting.global_speed = s.shift_velocity == "max";
+  p.shifting.R = Real(s.shift_R);
+  p.shifting.n = s.shift_n;
+  p.shifting.free_surface_zero = s.shift_free_surface == "zero";
+  p.shifting.fs_threshold = Real(s.shift_fs_threshold);
+  p.shifting.max_shift = Real(s.shift_max);
   return p;
 }
 
@@ -97,7 +105,9 @@ Simulation<D>::Simulation(const scene::Scene& scene)
     motion_->capture_reference(f_.x, f_.normal);
   }
   integrator_ = make_integrator<D>(scene);
-  set_skin(0);
+  // shifting moves particles by at most max_shift dx after the sort; a skin of twice that keeps the grid
+  // valid for the shifted configuration (density update, next step's forces) without a second sort
+  set_skin(rates_->shifting_enabled() ? Real(2) * params_.shifting.max_shift * params_.dx : Real(0));
   sort_and_bin();
   if (params_.density == physics::DensityMode::Summation) {
     const auto view = current_view();
@@ -168,6 +178,19 @@ Vec<D>* Simulation<D>::compute_xsph() {
   if (!xsph_) return nullptr;
   rates_->xsph(grid_, current_view(), xsph_->data.data());
   return xsph_->data.data();
+}
+
+template <int D>
+void Simulation<D>::apply_shifting() {
+  if (!rates_->shifting_enabled()) return;
+  shift_scratch_.resize(store_.size());
+  Vec<D>* dr = shift_scratch_.data();
+  rates_->shifting(grid_, current_view(), Real(dt_), dr);
+  Vec<D>* x = f_.x.data.data();
+  const std::int32_t* kind = f_.kind.data.data();
+  for_each_particle(store_.size(), [&](std::size_t i) {
+    if (kind[i] == 0) x[i] += dr[i];  // positions only: velocities, masses, momentum unchanged
+  });
 }
 
 template <int D>

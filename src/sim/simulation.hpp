@@ -99,6 +99,11 @@ class Simulation {
   // field `xsph_velocity` (integrators drift with x += dt (v + correction)).
   bool xsph_enabled() const { return xsph_ != nullptr; }
   Vec<D>* compute_xsph();
+  // Particle shifting (physics.shifting): moves fluid particles by dr = -D grad C (physics/shifting.hpp)
+  // for the current dt. Call right after sort_and_bin() in the drift (the grid is built with a skin of
+  // 2 max_shift dx, so it stays valid for the shifted positions); no-op when the scene does not name it.
+  void apply_shifting();
+  bool shifting_enabled() const { return rates_->shifting_enabled(); }
   // dt for the next step from the scene's fixed dt or CFL rule, given the last accelerations.
   double choose_dt() const;
   void set_dt(double dt) { dt_ = dt; }
@@ -127,6 +132,7 @@ class Simulation {
   Field<Vec<D>>* xsph_ = nullptr;    // XSPH correction
   std::vector<std::uint32_t> perm_;
   std::vector<Real> rho_scratch_;  // Shepard re-initialisation output (sized once)
+  std::vector<Vec<D>> shift_scratch_;  // shifting displacements (sized once; consumed within the step)
   std::size_t n_fluid_ = 0, n_boundary_ = 0;
   Real skin_ = 0;
   double time_ = 0, dt_ = 0;
