@@ -2,11 +2,19 @@
 // "Performance"): ns per fluid particle-step, fluid particle-steps/s, pair interactions/s and mean
 // neighbours, for 1 and 2 threads. Timings only here, never in tests.
 //   bench_step [--quick] [--case NAME]
+//   bench_step --scene FILE [--set KEY=VALUE]... [--steps N] [--threads 1,2] [--repeats R]
+//       one scene of your own (pipelines/bench_flatness.py uses it for the cost-per-particle curve); the
+//       best (minimum) of R repeats per thread count is printed. Every line ends with the process's peak
+//       resident size so far (getrusage ru_maxrss) in MB.
 #include <omp.h>
+#include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -22,6 +30,12 @@ struct Case {
   std::vector<std::string> overrides;
   int steps;
 };
+
+double peak_rss_mb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
 
 template <int D>
 double mean_neighbours(const Simulation<D>& sim) {
@@ -44,18 +58,22 @@ double mean_neighbours(const Simulation<D>& sim) {
 }
 
 template <int D>
-void run_case(const scene::Scene& s, const Case& c) {
-  for (int threads : {1, 2}) {
+void run_case(const scene::Scene& s, const Case& c, const std::vector<int>& thread_counts, int repeats) {
+  for (int threads : thread_counts) {
     omp_set_num_threads(threads);
     Simulation<D> sim(s);
     sim.advance();  // warm-up (first sort moves everything)
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < c.steps; ++k) sim.advance();
-    const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    double sec = std::numeric_limits<double>::infinity();
+    for (int r = 0; r < repeats; ++r) {  // the state advances between repeats: same cost per step
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int k = 0; k < c.steps; ++k) sim.advance();
+      sec = std::min(sec, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
     const double ps = double(c.steps) * double(sim.count(0));
     const double nb = mean_neighbours(sim);
-    std::printf("%-26s %9zu %8zu %3d %7.1f %10.1f %9.3f %9.1f %10.2f\n", c.name.c_str(), sim.count(0), sim.count(1),
-                threads, nb, sec / ps * 1e9, ps / sec * 1e-6, ps * nb / sec * 1e-6, sec / c.steps * 1e3);
+    std::printf("%-26s %9zu %8zu %3d %7.1f %10.1f %9.3f %9.1f %10.2f %9.1f\n", c.name.c_str(), sim.count(0),
+                sim.count(1), threads, nb, sec / ps * 1e9, ps / sec * 1e-6, ps * nb / sec * 1e-6, sec / c.steps * 1e3,
+                peak_rss_mb());
     std::fflush(stdout);
   }
 }
@@ -64,10 +82,37 @@ void run_case(const scene::Scene& s, const Case& c) {
 
 int main(int argc, char** argv) {
   bool quick = false;
-  std::string only;
+  std::string only, scene_file;
+  std::vector<std::string> sets;
+  std::vector<int> thread_counts = {1, 2};
+  int steps = 0, repeats = 1;
   for (int k = 1; k < argc; ++k) {
+    const bool more = k + 1 < argc;
+    if (!std::strcmp(argv[k], "--help") || !std::strcmp(argv[k], "-h")) {
+      std::printf(
+          "bench_step [--quick] [--case NAME]        the built-in cases (NAME: substring of a case name)\n"
+          "bench_step --scene FILE [--set KEY=VALUE]... [--steps N] [--threads 1,2] [--repeats R]\n"
+          "columns: ns per fluid particle-step, fluid particle-steps/s, pairs/s, ms per step, peak RSS (MB)\n");
+      return 0;
+    }
     if (!std::strcmp(argv[k], "--quick")) quick = true;
-    if (!std::strcmp(argv[k], "--case") && k + 1 < argc) only = argv[++k];
+    else if (!std::strcmp(argv[k], "--case") && more) only = argv[++k];
+    else if (!std::strcmp(argv[k], "--scene") && more) scene_file = argv[++k];
+    else if (!std::strcmp(argv[k], "--set") && more) sets.push_back(argv[++k]);
+    else if (!std::strcmp(argv[k], "--steps") && more) steps = std::atoi(argv[++k]);
+    else if (!std::strcmp(argv[k], "--repeats") && more) repeats = std::max(1, std::atoi(argv[++k]));
+    else if (!std::strcmp(argv[k], "--threads") && more) {
+      thread_counts.clear();
+      for (const char* t = argv[++k]; *t;) {
+        char* end = nullptr;
+        thread_counts.push_back(std::max(1, int(std::strtol(t, &end, 10))));
+        t = *end == ',' ? end + 1 : end;
+        if (end == t && *t) break;
+      }
+    } else {
+      std::fprintf(stderr, "bench_step: unknown argument '%s' (see --help)\n", argv[k]);
+      return 2;
+    }
   }
   const std::string dir = std::string(VARSPH_SOURCE_DIR) + "/pipelines/";
   std::vector<Case> cases = {
@@ -78,12 +123,19 @@ int main(int argc, char** argv) {
       {"dsph_val_2d_20k", "dam_break_2d_dsph_val.json", {}, quick ? 20 : 200},
   };
   std::printf("# varsph %s (%s), %s build\n", VARSPH_VERSION, VARSPH_REAL_NAME, VARSPH_BUILD_TYPE);
-  std::printf("%-26s %9s %8s %3s %7s %10s %9s %9s %10s\n", "case", "fluid", "boundary", "thr", "neighb",
-              "ns/p-step", "Mp-step/s", "Mpair/s", "ms/step");
+  std::printf("%-26s %9s %8s %3s %7s %10s %9s %9s %10s %9s\n", "case", "fluid", "boundary", "thr", "neighb",
+              "ns/p-step", "Mp-step/s", "Mpair/s", "ms/step", "peakMB");
+  if (!scene_file.empty()) {
+    cases = {{"custom", scene_file, sets, steps > 0 ? steps : 5}};
+    only.clear();
+  } else if (steps > 0) {
+    for (auto& c : cases) c.steps = steps;
+  }
   for (const auto& c : cases) {
     if (!only.empty() && c.name.find(only) == std::string::npos) continue;
-    const auto s = scene::parse_scene(dir + c.scene, c.overrides);
-    if (s.dimension == 2) run_case<2>(s, c);
-    else run_case<3>(s, c);
+    const auto s = scene::parse_scene(c.scene.front() == '/' || !scene_file.empty() ? c.scene : dir + c.scene,
+                                      c.overrides);
+    if (s.dimension == 2) run_case<2>(s, c, thread_counts, repeats);
+    else run_case<3>(s, c, thread_counts, repeats);
   }
 }

@@ -94,33 +94,37 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
   const std::size_t n = x.size();
   std::int64_t n_cells = 1;
   for (int a = 0; a < D; ++a) n_cells *= dims_[a];
-  key_.resize(n);
-  const long nn = long(n);
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < nn; ++i) {
-    const Coord c = coord_of(x[std::size_t(i)]);
+  // the cell key is recomputed where needed (histogram, scatter, block coordinates) rather than stored:
+  // 8 bytes per particle less at the cost of one floor per axis more per particle and step
+  auto key_of = [&](const Vec<D>& p) {
+    const Coord c = coord_of(p);
     std::uint64_t k = 0;
     for (int a = D - 1; a >= 0; --a) k = k * std::uint64_t(dims_[a]) + std::uint64_t(c[a]);
-    key_[std::size_t(i)] = k;
-  }
-  // stable counting sort by cell
+    return k;
+  };
+  key_.clear();
+  key_.shrink_to_fit();
+  // stable counting sort by cell with one per-cell array: count_[c + 1] = particles in cell c, prefix sum
+  // (count_[c] = first slot of cell c), scatter with count_[c] as the cursor (count_[c] = end of cell c)
   count_.assign(std::size_t(n_cells) + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++count_[key_[i] + 1];
+  for (std::size_t i = 0; i < n; ++i) ++count_[key_of(x[i]) + 1];
   for (std::int64_t c = 0; c < n_cells; ++c) count_[c + 1] += count_[c];
   perm.resize(n);
-  {
-    // count_[c] is the first slot of cell c; use a running cursor copy
-    std::vector<std::uint32_t>& cursor = bucket_start_;
-    cursor.assign(count_.begin(), count_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) perm[cursor[key_[i]]++] = std::uint32_t(i);
-  }
-  // blocks: occupied cells in cell order
+  for (std::size_t i = 0; i < n; ++i) perm[count_[key_of(x[i])]++] = std::uint32_t(i);
+  // blocks: occupied cells in cell order; count_ then becomes the cell -> block map (kNoBlock: empty),
+  // so the dense per-cell storage is 4 bytes per cell in all
   blocks_.clear();
-  cell_block_.assign(std::size_t(n_cells), -1);
-  for (std::int64_t c = 0; c < n_cells; ++c) {
-    if (count_[c + 1] > count_[c]) {
-      cell_block_[c] = std::int64_t(blocks_.size());
-      blocks_.push_back({count_[c], count_[c + 1], 0, 0});
+  {
+    std::uint32_t begin = 0;
+    for (std::int64_t c = 0; c < n_cells; ++c) {
+      const std::uint32_t end = count_[c];
+      if (end > begin) {
+        count_[c] = std::uint32_t(blocks_.size());
+        blocks_.push_back({begin, end, 0, 0});
+      } else {
+        count_[c] = kNoBlock;
+      }
+      begin = end;
     }
   }
   // neighbour ranges of every block, in two parallel passes (count, then fill) so the layout is the
@@ -128,12 +132,7 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
   const int w = 2 * m_ + 1;
   const int n_off = D == 2 ? w * w : w * w * w;
   auto visit = [&](const CellBlock& b, auto&& emit) {
-    std::uint64_t k = key_[perm[b.begin]];
-    Coord c;
-    for (int a = 0; a < D; ++a) {
-      c[a] = std::int64_t(k % std::uint64_t(dims_[a]));
-      k /= std::uint64_t(dims_[a]);
-    }
+    const Coord c = coord_of(x[perm[b.begin]]);
     NeighborRange pending{0, 0, 0};
     bool have = false;
     for (int o = 0; o < n_off; ++o) {
@@ -155,8 +154,8 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
       if (!valid) continue;
       std::uint64_t nk = 0;
       for (int a = D - 1; a >= 0; --a) nk = nk * std::uint64_t(dims_[a]) + std::uint64_t(nc[a]);
-      const std::int64_t nb = cell_block_[nk];
-      if (nb < 0) continue;
+      const std::uint32_t nb = count_[nk];
+      if (nb == kNoBlock) continue;
       const NeighborRange nr{blocks_[nb].begin, blocks_[nb].end, shift_id(wrap)};
       // cells adjacent along x are adjacent in memory: extend the pending range
       if (have && pending.end == nr.begin && pending.shift == nr.shift) {

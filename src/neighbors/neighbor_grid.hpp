@@ -69,8 +69,9 @@ class NeighborGrid {
   std::vector<NeighborRange> ranges_;
   // scratch reused between builds (no allocation after the first build of a given size)
   std::vector<std::uint64_t> key_;
+  // uniform: per-cell counts, then cell -> block index (kNoBlock: empty); hashed: per-bucket counts
   std::vector<std::uint32_t> count_;
-  std::vector<std::int64_t> cell_block_;  // uniform: cell -> block index or -1
+  static constexpr std::uint32_t kNoBlock = 0xffffffffu;
   std::vector<Coord> coords_;
   std::vector<std::uint32_t> bucket_start_;  // hashed: bucket -> first block
 };
