@@ -147,7 +147,9 @@ TEST_P(AngularByAlpha, FreeClusterConservesAngularMomentum) {
   const double dt = 2e-4;
   Simulation<2> sim(make_scene(lattice_scene(12, 0.2, false, alpha, alpha == 1 ? "verlet" : "variational",
                                              "continuity", dt, 0.1, 11, 5.0),
-                               {"integrator.fixed_point.tolerance=1e-12"}));
+                               // float: the residual stalls near 2e-11 m (float positions of O(0.1) m); 1e-7 gives 1e-9 m here
+                               {test::kRealIsDouble ? "integrator.fixed_point.tolerance=1e-12"
+                                                    : "integrator.fixed_point.tolerance=1e-7"}));
   auto* vi = test::variational_of(sim);
   Eigen::Vector2d c = Eigen::Vector2d::Zero();
   double M = 0;
