@@ -40,7 +40,8 @@ def main():
             raise SystemExit(f"{exe} not found: build the presets release and float first")
         os.environ["VARSPH_BIN"] = exe
         out = os.path.join(a.outdir, f"{name}_dx{a.dx:g}")
-        r = cdb.run_case(a.dx, None, a.threads, out, cdb.SCENE_WENDLAND)
+        # the scene's dt = 2e-4 s at dx = 5 mm, scaled with dx (acoustic CFL)
+        r = cdb.run_case(a.dx, {"integrator.dt": 2e-4 * a.dx / 0.005}, a.threads, out, cdb.SCENE_WENDLAND)
         if r["rc"] != 0:
             raise SystemExit(f"{name} run failed (exit {r['rc']}): {r['message']}")
         res[name] = r
