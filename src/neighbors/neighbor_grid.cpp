@@ -94,44 +94,43 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
   const std::size_t n = x.size();
   std::int64_t n_cells = 1;
   for (int a = 0; a < D; ++a) n_cells *= dims_[a];
-  key_.resize(n);
-  const long nn = long(n);
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < nn; ++i) {
-    const Coord c = coord_of(x[std::size_t(i)]);
+  // the cell key is recomputed where needed (histogram, scatter, block coordinates) rather than stored:
+  // 8 bytes per particle less at the cost of one floor per axis more per particle and step
+  auto key_of = [&](const Vec<D>& p) {
+    const Coord c = coord_of(p);
     std::uint64_t k = 0;
     for (int a = D - 1; a >= 0; --a) k = k * std::uint64_t(dims_[a]) + std::uint64_t(c[a]);
-    key_[std::size_t(i)] = k;
-  }
-  // stable counting sort by cell
+    return k;
+  };
+  key_.clear();
+  key_.shrink_to_fit();
+  // stable counting sort by cell with one per-cell array: count_[c + 1] = particles in cell c, prefix sum
+  // (count_[c] = first slot of cell c), scatter with count_[c] as the cursor (count_[c] = end of cell c)
   count_.assign(std::size_t(n_cells) + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++count_[key_[i] + 1];
+  for (std::size_t i = 0; i < n; ++i) ++count_[key_of(x[i]) + 1];
   for (std::int64_t c = 0; c < n_cells; ++c) count_[c + 1] += count_[c];
   perm.resize(n);
-  {
-    // count_[c] is the first slot of cell c; use a running cursor copy
-    std::vector<std::uint32_t>& cursor = bucket_start_;
-    cursor.assign(count_.begin(), count_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) perm[cursor[key_[i]]++] = std::uint32_t(i);
-  }
-  // blocks: occupied cells in cell order
+  for (std::size_t i = 0; i < n; ++i) perm[count_[key_of(x[i])]++] = std::uint32_t(i);
+  // blocks: occupied cells in cell order; count_ keeps the cell ends, from which the neighbour ranges
+  // are read: the dense per-cell storage is 4 bytes per cell in all
   blocks_.clear();
-  for (std::int64_t c = 0; c < n_cells; ++c)
-    if (count_[c + 1] > count_[c]) blocks_.push_back({count_[c], count_[c + 1], 0, 0});
+  {
+    std::uint32_t begin = 0;
+    for (std::int64_t c = 0; c < n_cells; ++c) {  // count_[c] is now the end of cell c
+      const std::uint32_t end = count_[c];
+      if (end > begin) blocks_.push_back({begin, end, 0, 0});
+      begin = end;
+    }
+  }
   // Neighbour ranges of every block: the stencil cells of one row (fixed offsets on the axes above x)
   // are consecutive cell keys, so their particles are one slice of the sorted order, read from the
-  // prefix sums count_: (2m+1)^(D-1) ranges per block (split only where x wraps periodically), in
+  // cell ends in count_: (2m+1)^(D-1) ranges per block (split only where x wraps periodically), in
   // the order of the cell offsets (x fastest). Two parallel passes (count, then fill) so the layout is
   // the same for any thread count.
   const int w = 2 * m_ + 1;
   const int n_rows = D == 2 ? w : w * w;
   auto visit = [&](const CellBlock& b, auto&& emit) {
-    std::uint64_t k = key_[perm[b.begin]];
-    Coord c;
-    for (int a = 0; a < D; ++a) {
-      c[a] = std::int64_t(k % std::uint64_t(dims_[a]));
-      k /= std::uint64_t(dims_[a]);
-    }
+    const Coord c = coord_of(x[perm[b.begin]]);
     NeighborRange pending{0, 0, 0};
     bool have = false;
     auto push = [&](std::uint32_t begin, std::uint32_t end, std::uint32_t shift) {
@@ -169,7 +168,8 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
       const std::int64_t lo = c[0] - m_, hi = c[0] + m_, nx = dims_[0];
       auto slice = [&](std::int64_t x0, std::int64_t x1, int wx) {  // cells x0..x1 of this row
         wrap[0] = wx;
-        push(count_[row_key + std::uint64_t(x0)], count_[row_key + std::uint64_t(x1) + 1], shift_id(wrap));
+        const std::uint64_t k0 = row_key + std::uint64_t(x0), k1 = row_key + std::uint64_t(x1);
+        push(k0 == 0 ? 0u : count_[k0 - 1], count_[k1], shift_id(wrap));  // start of x0 .. end of x1
       };
       if (lo < 0 && opt_.periodic[0]) slice(lo + nx, nx - 1, -1);
       slice(std::max<std::int64_t>(lo, 0), std::min<std::int64_t>(hi, nx - 1), 0);

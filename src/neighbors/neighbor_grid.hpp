@@ -69,6 +69,7 @@ class NeighborGrid {
   std::vector<NeighborRange> ranges_;
   // scratch reused between builds (no allocation after the first build of a given size)
   std::vector<std::uint64_t> key_;
+  // uniform: per-cell counts, then (after the scatter) the end of every cell; hashed: per-bucket counts
   std::vector<std::uint32_t> count_;
   std::vector<Coord> coords_;
   std::vector<std::uint32_t> bucket_start_;  // hashed: bucket -> first block

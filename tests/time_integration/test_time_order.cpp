@@ -8,6 +8,7 @@
 #include <map>
 #include <random>
 
+#include "../support/real_tolerance.hpp"
 #include "scene/scene.hpp"
 #include "sim/simulation.hpp"
 #include "test_support.hpp"
@@ -125,6 +126,9 @@ std::vector<double> observed_orders(const Case& c, const std::string& density, c
 }
 
 void check_orders(const std::string& density, const std::vector<Case>& cases) {
+  if (!test::kRealIsDouble)
+    GTEST_SKIP() << "double only: the time errors at the finest dt (~1e-10 m) are below float resolution of "
+                    "the positions, so observed orders measure round-off";
   const int finest = 640;
   const Positions ref = run("rk4", finest * 64 / 4, density);  // RK4 at dt = T / 10240
   for (const auto& c : cases) {
@@ -181,8 +185,8 @@ void check_drift(int steps) {
       const double e = max_distance<D>(moving, still);
       std::printf("[drift %dD] %s %s: max |x - U T - x_still| = %.1e m, |dP| = %.1e kg m/s\n", D, type, density, e,
                   double(dP.norm()));
-      EXPECT_LT(e, 1e-11) << type << " " << density;
-      EXPECT_LT(dP.norm(), 1e-12 * (D == 3 ? 10 : 1)) << type << " " << density;
+      EXPECT_LT(e, test::real_tol(1e-11, 64)) << type << " " << density;  // float: rounding of x + U t
+      EXPECT_LT(dP.norm(), test::real_tol(1e-12, 128) * (D == 3 ? 10 : 1)) << type << " " << density;
     }
 }
 
