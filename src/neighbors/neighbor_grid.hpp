@@ -68,7 +68,8 @@ class NeighborGrid {
   std::vector<CellBlock> blocks_;
   std::vector<NeighborRange> ranges_;
   // scratch reused between builds (no allocation after the first build of a given size)
-  std::vector<std::uint64_t> key_;
+  std::vector<std::uint64_t> key_;       // hashed: bucket per particle
+  std::vector<std::uint32_t> cell_key_;  // uniform: cell per particle
   // uniform: per-cell counts, then (after the scatter) the end of every cell; hashed: per-bucket counts
   std::vector<std::uint32_t> count_;
   std::vector<Coord> coords_;
