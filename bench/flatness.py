@@ -34,7 +34,8 @@ def bench(exe, dx, threads, steps, repeats):
     cmd = [exe, "--scene", SCENE, "--set", f"particles.spacing={dx!r}", "--set", f"integrator.dt={dt!r}",
            "--steps", str(steps), "--repeats", str(repeats), "--threads", str(threads)]
     load = loadavg()
-    p = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, OMP_WAIT_POLICY="passive"))
+    # the caller's OpenMP wait policy: passive makes every fork/join a sleep/wake-up (several times slower when idle)
+    p = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ))
     if p.returncode != 0:
         raise SystemExit(f"{' '.join(cmd)}: exit {p.returncode}\n{p.stdout}\n{p.stderr}")
     row = [ln.split() for ln in p.stdout.splitlines() if ln.startswith("custom")][-1]
