@@ -42,17 +42,6 @@ PEERS = [("DualSPHysics 5.4", 0.005, 18.5, 0.127, 0.0088), ("DualSPHysics 5.4", 
          ("SPlisHSPlasH WCSPH", 0.00125, 903, 0.174, 0.013)]
 
 
-def h_over_c0(scene_file, sets):
-    rc, out = vc.info(scene_file, sets)
-    h = c0 = None
-    for line in out.splitlines():
-        if line.startswith("kernel") and "h = " in line:
-            h = float(line.split("h = ")[1].split()[0])
-        if line.startswith("c0 "):
-            c0 = float(line.split()[1])
-    return h / c0
-
-
 CASES = {
     # the dam break uses the best variant of docs/validation.md (Wendland C2, h = 1.3 dx); t = 0 ... 0.27 s
     "dam_break": dict(scene=case_dam_break.SCENE_WENDLAND, dx=[0.01, 0.005], dx_quick=[0.005],
@@ -181,7 +170,7 @@ def main():
                 label = itype + (f" a={alpha:g}" if alpha is not None else "")
                 for dx in dxs:
                     sc, ss = scene_for_info(case, dx)
-                    hc = h_over_c0(sc, dict(ss, **sets))
+                    hc = vc.h_over_c0(sc, dict(ss, **sets))
                     for f in fs:
                         dt = f * hc
                         # the whole integrator object, so that a scene's integrator.cfl does not clash with dt

@@ -30,17 +30,6 @@ INTEGRATORS = ["verlet", "variational:0.25", "variational:0.5", "variational:0.7
                "predictor_corrector"]
 
 
-def hc(scene, sets):
-    rc, out = vc.info(scene, sets)
-    h = c0 = None
-    for line in out.splitlines():
-        if line.startswith("kernel") and "h = " in line:
-            h = float(line.split("h = ")[1].split()[0])
-        if line.startswith("c0 "):
-            c0 = float(line.split()[1])
-    return h / c0
-
-
 def trial(scene, sets, f, h_c, outdir, log):
     s = {k: v for k, v in sets.items() if not k.startswith("integrator.")}
     s["integrator"] = {"type": sets["integrator.type"], "dt": f * h_c}
@@ -65,7 +54,7 @@ def largest_stable(case, integ, tol, outroot, start=0.2):
         sets["integrator.alpha"] = float(alpha)
     if vc.info(scene, sets)[0] != 0:
         return None
-    h_c = hc(scene, sets)
+    h_c = vc.h_over_c0(scene, sets)
     out = os.path.join(outroot, f"{case}_{integ.replace(':', '_')}")
     log = []
     lo, hi = 0.0, start
@@ -107,7 +96,7 @@ def hard_cases(outroot):
     for f in (1.5, 3.0):
         out = os.path.join(outroot, f"hard_dam_f{f:g}")
         s = dict(CASES["dam_break"][1])
-        h_c = hc(case_dam_break.SCENE, s)
+        h_c = vc.h_over_c0(case_dam_break.SCENE, s)
         s["integrator.dt"] = f * h_c
         r = vc.run(case_dam_break.SCENE, out, s, threads=2)
         nf, bad = vc.nan_frames(out)

@@ -108,6 +108,18 @@ def info(scene, sets=None):
     return p.returncode, p.stdout + p.stderr
 
 
+def h_over_c0(scene, sets=None):
+    """h / c0 of a scene as `varsph info` resolves it (time steps are fractions f of h / c0)."""
+    _, out = info(scene, sets or {})
+    h = c0 = None
+    for line in out.splitlines():
+        if line.startswith("kernel") and "h = " in line:
+            h = float(line.split("h = ")[1].split()[0])
+        if line.startswith("c0 "):
+            c0 = float(line.split()[1])
+    return h / c0
+
+
 def integrator_available(scene, itype, alpha=None):
     sets = {"integrator.type": itype}
     if alpha is not None:
