@@ -4,5 +4,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
-cmake --preset release "${generator[@]}" >/dev/null
+# ccache, where installed, makes rebuilds after a merge cheap (CI has none and builds plainly)
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+cmake --preset release "${generator[@]}" "${launcher[@]}" >/dev/null
 cmake --build --preset release -j"$(nproc)"
