@@ -11,6 +11,7 @@ Writes (and prints each path):
   deviation.csv (time,D_max,D_mean,D_rms, as varsph compare) + deviation.png, with --compare
   momentum.csv (time,momentum_x,momentum_y,momentum_z,momentum_Q) + momentum_Q.png, from diagnostics.csv
 Plots need matplotlib inside pvpython; without it the CSV files are still written and a message says so.
+Given a `varsph study` directory (with study.json), it shows every level side by side (study_levels.py).
 """
 import argparse
 import csv
@@ -114,6 +115,9 @@ def main(argv=None):
     ap.add_argument("--probe-points", default=None, help="pressure probes 'x,y[,z];...' -> pressure_probes.csv")
     ap.add_argument("--no-snapshots", action="store_true", help="skip the ParaView renderings")
     a = ap.parse_args(argv)
+    if os.path.isfile(os.path.join(a.run, "study.json")):  # a `varsph study` directory: every level side by side
+        import study_levels
+        return study_levels.main([a.run])
 
     run = a.run
     post = os.path.join(run if os.path.isdir(run) else os.path.dirname(run), "post")

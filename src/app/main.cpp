@@ -1,4 +1,4 @@
-// The `varsph` command: run, info, sample, compare (CONTRACT.md). Exit codes: 0 ok, 1 internal error,
+// The `varsph` command: run, info, sample, compare, study (CONTRACT.md). Exit codes: 0 ok, 1 internal error,
 // 2 invalid input or usage, 3 numerical failure, 4 I/O failure, 130/143 interrupted.
 #include <cstdio>
 #include <iostream>
@@ -46,6 +46,9 @@ int main(int argc, char** argv) {
   compare->add_flag("--overwrite", args.overwrite, "Replace an existing non-empty output directory");
   compare->add_flag("--quiet", args.quiet, "Print only errors");
 
+  StudyCli study_cli;
+  auto* study = add_study_command(app, study_cli);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -57,6 +60,10 @@ int main(int argc, char** argv) {
     if (*info) return command_info(args);
     if (*sample) return command_sample(args);
     if (*compare) return command_compare(args);
+    if (*study) {
+      study_cli.ratio_given = study->count("--ratio") > 0;
+      return command_study(study_cli, args.argv);
+    }
   } catch (const InputError& e) {
     std::fprintf(stderr, "varsph: error: %s\n", e.what());
     return kExitInput;

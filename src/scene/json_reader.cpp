@@ -185,7 +185,7 @@ void walk(const json& node, const std::string& path, std::vector<std::string>& o
       walk(it.value(), path.empty() ? it.key() : path + "." + it.key(), out);
   } else if (node.is_array() && !node.empty() && (node[0].is_object())) {
     for (std::size_t i = 0; i < node.size(); ++i) walk(node[i], path + "." + std::to_string(i), out);
-  } else {
+  } else if (!node.is_null()) {  // null is the same as absent (`--set physics.xsph=null` removes a term)
     out.push_back(path);
   }
 }
