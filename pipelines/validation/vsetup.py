@@ -15,6 +15,7 @@ import copy
 import json
 import math
 import os
+import sys
 
 SETUP_BLOCKS = ("kernel", "fluid", "physics", "boundary", "integrator", "health")
 
@@ -26,27 +27,33 @@ CASE_KEYS = ("fluid.rho0", "fluid.reference_speed", "fluid.reference_height", "p
 SUPPORT_OVER_H = {"gaussian": 3.0, "wendland_c2": 2.0, "cubic_spline": 2.0, "paper_literal": 1.0}
 
 
+def die(msg):
+    """Bad input: the message on stderr, exit 2 (CONTRACT.md)."""
+    print(msg, file=sys.stderr)
+    raise SystemExit(2)
+
+
 def load_json(path):
     try:
         with open(path) as f:
             return json.load(f)
     except OSError as e:
-        raise SystemExit(f"{path}: cannot read the set-up/scene file: {e.strerror}") from None
+        die(f"{path}: cannot read the set-up/scene file: {e.strerror}")
     except json.JSONDecodeError as e:
-        raise SystemExit(f"{path}: not valid JSON (line {e.lineno}, column {e.colno}): {e.msg}") from None
+        die(f"{path}: not valid JSON (line {e.lineno}, column {e.colno}): {e.msg}")
 
 
 def load_setup(path):
     """The set-up blocks of a scene file (at least one of SETUP_BLOCKS must be present)."""
     d = load_json(path)
     if not isinstance(d, dict):
-        raise SystemExit(f"{path}: a set-up must be a JSON object with some of the keys {', '.join(SETUP_BLOCKS)}")
+        die(f"{path}: a set-up must be a JSON object with some of the keys {', '.join(SETUP_BLOCKS)}")
     blocks = {k: d[k] for k in SETUP_BLOCKS if k in d}
     if not blocks:
-        raise SystemExit(f"{path}: none of the set-up keys {', '.join(SETUP_BLOCKS)} found")
+        die(f"{path}: none of the set-up keys {', '.join(SETUP_BLOCKS)} found")
     for k, v in blocks.items():
         if not isinstance(v, dict):
-            raise SystemExit(f"{path}: key '{k}' must be an object")
+            die(f"{path}: key '{k}' must be an object, found {type(v).__name__}")
     return blocks
 
 
