@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Set-up matrix: one engineering set-up (the kernel / fluid / physics / boundary / integrator / health blocks
-of a scene file, vsetup.py) run on EVERY validation case at once, one table row per metric.
+of a scene file, vsetup.py) run on EVERY validation case at once, one table row per metric (a goal "<= b" bounds the magnitude of the value).
 
 Each case keeps its own geometry, probes, time and flow keys (vsetup.CASE_KEYS) and takes the set-up's
 method blocks; wall layers follow the set-up's kernel. Without --setup every case runs its own scene (the
@@ -9,6 +9,8 @@ never by one metric (issue 13, point 5).
 
   /usr/bin/python3 pipelines/validation/setup_matrix.py [--setup FILE.json] [--quick] [--cases a,b,...]
       [--sensor '{"radius": 0.005}'] [--threads 2] [-o runs/setup_matrix/NAME] [--timeout 3600]
+
+  /usr/bin/python3 pipelines/validation/setup_matrix.py --compare OUT1 OUT2 ...   # one column per set-up
 
 --quick runs coarse versions (a few minutes on an idle 2-core machine, no 3D case); the full matrix takes
 about an hour (docs/validation.md section 12). --sensor merges keys into every pressure probe of every case
@@ -90,7 +92,7 @@ def row(case, metric, value, goal=None, ok=None, res=None, fmt="{:.4g}", note=""
     if goal is not None and ok is None:
         op, bound = goal
         ok = (value == bound) if op == "eq" else (value is not None and math.isfinite(value) and abs(value) <= bound)
-    gtxt = "" if goal is None else (f"= {goal[1]}" if goal[0] == "eq" else f"|.| <= {fmt.replace('+', '').format(goal[1])}")
+    gtxt = "" if goal is None else (f"= {goal[1]}" if goal[0] == "eq" else f"<= {fmt.replace('+', '').format(goal[1])}")
     return {"case": case, "metric": metric, "value": value,
             "value_text": (fmt.format(value) if isinstance(value, (int, float)) and value is not None else str(value)),
             "goal": gtxt, "pass": ok, "wall": res.get("wall"), "load": res.get("load"), "rc": res.get("rc"),
@@ -240,18 +242,54 @@ CASES = {"dam_break": case_dam_break_rows, "hydrostatic": case_hydrostatic_rows,
          "taylor_green": case_tg_rows, "poiseuille": case_poiseuille_rows}
 
 
+def cell(text):
+    return str(text).replace("|", "\\|")
+
+
 def table(rows):
     head = "| case | metric | value | goal | pass | wall s (load) | note |\n|---|---|---|---|---|---|---|\n"
     lines = []
     for r in rows:
         p = {True: "PASS", False: "FAIL", None: ""}[r["pass"]]
         w = f"{r['wall']:.1f} ({r['load']:.1f})" if isinstance(r.get("wall"), (int, float)) and r.get("load") is not None else ""
-        lines.append(f"| {r['case']} | {r['metric']} | {r['value_text']} | {r['goal']} | {p} | {w} | {r['note']} |")
+        lines.append(f"| {r['case']} | {cell(r['metric'])} | {cell(r['value_text'])} | {cell(r['goal'])} | {p} | {w} | "
+                     f"{cell(r['note'])} |")
     return head + "\n".join(lines) + "\n"
+
+
+def compare(dirs):
+    """Markdown table of several matrix.json files side by side: one row per (case, metric), one column per set-up."""
+    runs = []
+    for d in dirs:
+        p = os.path.join(d, "matrix.json")
+        try:
+            with open(p) as f:
+                runs.append(json.load(f))
+        except (OSError, json.JSONDecodeError) as e:
+            vsetup.die(f"{p}: cannot read a matrix result ({e})")
+    keys, goals = [], {}
+    for m in runs:
+        for r in m["rows"]:
+            k = (r["case"], r["metric"])
+            if k not in goals:
+                keys.append(k)
+                goals[k] = r["goal"]
+    names = [os.path.basename(os.path.normpath(d)) for d in dirs]
+    out = "| case | metric | goal | " + " | ".join(names) + " |\n|---|---|---|" + "---|" * len(names) + "\n"
+    for k in keys:
+        cells = []
+        for m in runs:
+            r = next((r for r in m["rows"] if (r["case"], r["metric"]) == k), None)
+            cells.append("" if r is None else cell(r["value_text"]) + {True: " ok", False: " **x**", None: ""}[r["pass"]])
+        out += f"| {k[0]} | {cell(k[1])} | {cell(goals[k])} | " + " | ".join(cells) + " |\n"
+    out += "\n" + "; ".join(f"{n}: {m.get('setup') or 'own scenes'} ({m.get('description', '')})" for n, m in
+                             zip(names, runs)) + "\n"
+    return out
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--compare", nargs="+", metavar="OUT", help="print the results of earlier runs side by side")
     ap.add_argument("--setup", help="scene file whose method blocks are the set-up (default: every case's own scene)")
     ap.add_argument("--quick", action="store_true", help="coarse versions, no 3D case")
     ap.add_argument("--cases", default=",".join(CASES), help="comma list of " + ", ".join(CASES))
@@ -260,6 +298,9 @@ def main():
     ap.add_argument("--timeout", type=float, default=None, help="seconds per varsph run (default none)")
     ap.add_argument("-o", "--outdir")
     a = ap.parse_args()
+    if a.compare:
+        print(compare(a.compare))
+        return 0
     names = [c.strip() for c in a.cases.split(",") if c.strip()]
     unknown = [c for c in names if c not in CASES]
     if unknown:
