@@ -7,7 +7,7 @@ and `probes`, plus the few keys inside the method blocks that describe the flow 
 (CASE_KEYS: the expected speed of an impact, the physical viscosity of a viscous case, a body force).
 
 apply_setup(case_scene, setup) returns the case scene with the set-up's blocks in place of its own,
-the case-owned keys put back, and the wall layers of box/tank boundary bodies raised to cover the
+the case-owned keys put back, and the wall layers of box, tank and mesh boundary bodies raised to cover the
 set-up kernel's support (a pressure wall needs a full support of wall particles; the one-layer
 `repulsive` wall does not).
 """
@@ -104,7 +104,8 @@ def apply_setup(case_scene, setup, case_keys=CASE_KEYS):
     if model != "repulsive":
         need = wall_layers(out)
         for b in out.get("bodies", []):
-            if b.get("kind") == "boundary" and b.get("shape", "box") in ("box", "tank") and b.get("layers", 1) < need:
+            shape = b.get("shape", "mesh" if "mesh" in b else "box")
+            if b.get("kind") == "boundary" and shape in ("box", "tank", "mesh") and b.get("layers", 1) < need:
                 b["layers"] = need
     return out
 
