@@ -4,6 +4,13 @@
   /usr/bin/python3 pipelines/study/check_study.py CASE [--quick] [--threads 1] [-o DIR]
 
 CASE:
+  smoke         the fast-tier check of the command itself (a few CPU seconds): the hydrostatic tank (four probes,
+                settled start) at dx 0.05/0.025/0.0125 to t = 0.1 s with physics.xsph {"epsilon": 0}, --ablate
+                physics.xsph and --tolerance 5%. Asserts the outputs (study.json, study.csv, levels.csv, report.md,
+                series/, the plots when matplotlib is there), x4 particles per level, each level's measured cost
+                and the predicted cost of the others, values/errors/orders for every quantity, one study.csv row
+                per quantity and level, XSPH with epsilon 0 "not needed at this resolution" with its saving,
+                a tolerance answer per quantity, and --reuse repeating no run.
   poiseuille    Poiseuille start-up (case_poiseuille.make_scene), dx 0.1/0.05/0.025 (quick) or 0.05/0.025/0.0125,
                 with physics.xsph {"epsilon": 0} and --ablate physics.xsph. Exact: total momentum
                 M(t) = rho0 W Q(t), Q = int_0^L u dy of the series, and kinetic energy (1/2) rho0 W int u^2 dy.
@@ -129,6 +136,84 @@ def check(s, out, exact_scalar, exact_series, names, hdx_flagged=None):
     return ok
 
 
+# ---- smoke: the command's outputs on a cheap case (fast tier) -------------------------------------------
+def run_smoke(a):
+    out = os.path.join(a.outdir, "smoke")
+    os.makedirs(a.outdir, exist_ok=True)
+    with open(case_hydrostatic.SCENE) as f:
+        sc = json.load(f)
+    keep = {"y060", "y150", "wall_y060", "centre"}
+    sc["probes"] = [p for p in sc["probes"] if p["name"] in keep]
+    sc["physics"]["xsph"] = {"epsilon": 0.0}  # a term that does nothing: the ablation must find it not needed
+    scene = os.path.join(a.outdir, "smoke_scene.json")
+    with open(scene, "w") as f:
+        json.dump(sc, f)
+    args = [scene, "--dx", 0.05, "--levels", 3, "--ablate", "physics.xsph", "--tolerance", "5%",
+            "--set", "time.end=0.1", "--set", "output.every=0.05", "--set", "output.probes_every=0.002",
+            "--set", 'bodies.0.initial_pressure="zero"', "--set", 'physics.gravity_ramp={"duration":0.05}']
+    s = study(args, out, a.threads)
+    bad = []
+
+    def need(cond, what):
+        if not cond:
+            bad.append(what)
+
+    for f in ("study.json", "study.csv", "levels.csv", "report.md", "series", "levels/L2/run.json",
+              "ablation/A0_without_physics.xsph/run.json"):
+        need(os.path.exists(os.path.join(out, f)), "missing " + f)
+    if vc_has_matplotlib():
+        need(os.path.exists(os.path.join(out, "plots", "error_vs_cost.png")), "missing plots/error_vs_cost.png")
+        need(os.path.exists(os.path.join(out, "plots", "convergence_p_y060.png")), "missing convergence_p_y060.png")
+    lv = s["levels"]
+    need(len(lv) == 3, "3 levels expected, got %d" % len(lv))
+    for k, x in enumerate(lv):
+        need(x["exit_code"] == 0, "L%d exit %d" % (k, x["exit_code"]))
+        need(abs(x["dx"] - 0.05 / 2 ** k) < 1e-12, "L%d dx %g" % (k, x["dx"]))
+        need(x["wall_seconds"] > 0 and x["cpu_seconds"] > 0 and x["peak_rss_mb"] > 0 and x["particle_steps"] > 0,
+             "L%d cost not measured" % k)
+        if k > 0:
+            need(x["fluid_particles"] == 4 * lv[k - 1]["fluid_particles"], "L%d is not x4 particles" % k)
+            need(x.get("predicted", {}).get("cpu_seconds", 0) > 0, "L%d has no predicted cost" % k)
+    names = [q["name"] for q in s["quantities"]]
+    for n in ("p_y060.mean[0:0.1]", "p_y060.l2[0:0.1]", "h_centre.end[0:0.1]", "kinetic_energy.l2[0:0.1]",
+              "momentum_y.mean[0:0.1]", "Fx_body1.mean[0:0.1]", "front_x.end[0:0.1]"):
+        need(n in names, "no quantity " + n)
+    for q in s["quantities"]:
+        need(len(q["values"]) == 3 and len(q["error_estimate"]) == 3, q["name"] + ": not one value/error per level")
+        need(q["trusted"] == (not q["flags"]), q["name"] + ": trusted and flags disagree")
+    with open(os.path.join(out, "study.csv")) as f:
+        rows = list(csv.DictReader(f))
+    need(len(rows) == 3 * len(names), "study.csv has %d rows, expected %d" % (len(rows), 3 * len(names)))
+    v = s["ablation"]["variants"]
+    need(len(v) == 1 and v[0]["verdict"] == "not needed at this resolution",
+         "XSPH with epsilon 0: verdict %r" % (v[0]["verdict"] if v else None))
+    need(v and "cpu_saving" in v[0], "no cost saving reported for the ablation")
+    t = s["tolerances"]
+    need(len(t) == 1 and len(t[0]["quantities"]) > 0, "no tolerance answer")
+    # --reuse repeats nothing: same plan, every run kept
+    cmd = [vc.varsph_binary(), "study"] + [str(x) for x in args] + ["-o", out, "--reuse", "--no-plots", "--quiet",
+                                                                     "--threads", str(a.threads)]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    need(p.returncode == 0, "--reuse exited %d: %s" % (p.returncode, p.stderr[-500:]))
+    with open(os.path.join(out, "study.json")) as f:
+        s2 = json.load(f)
+    need(all(x["reused"] for x in s2["levels"]), "--reuse ran a level again")
+    print("\nlevels: " + ", ".join("dx %g: %d fluid, %.2f s CPU" % (x["dx"], x["fluid_particles"], x["cpu_seconds"])
+                                    for x in lv))
+    print("ablation: %s (%s)" % (v[0]["verdict"], v[0]["reason"]) if v else "ablation: none")
+    for b in bad:
+        print("FAIL: " + b)
+    return not bad
+
+
+def vc_has_matplotlib():
+    try:
+        import matplotlib  # noqa: F401
+        return True
+    except ImportError:
+        return False
+
+
 # ---- Poiseuille start-up -------------------------------------------------------------------------------
 def poiseuille_moments(t, L=case_poiseuille.L, nu=case_poiseuille.NU, F=case_poiseuille.F, n=4001):
     """Q(t) = int_0^L u dy and int_0^L u^2 dy of the series (analytic_references.md), by the trapezoid rule."""
@@ -142,6 +227,9 @@ def poiseuille_moments(t, L=case_poiseuille.L, nu=case_poiseuille.NU, F=case_poi
     return np.array(q1), np.array(q2)
 
 
+HDX_ABLATION = 2.6  # h/dx of the ablation that exposes the fixed-h/dx bias (the scene's is 1.3)
+
+
 def run_poiseuille(a):
     dx = [0.1, 0.05, 0.025] if a.quick else [0.05, 0.025, 0.0125]
     T = 0.5
@@ -149,14 +237,15 @@ def run_poiseuille(a):
     os.makedirs(a.outdir, exist_ok=True)
     scene = os.path.join(a.outdir, "poiseuille_scene.json")
     sc = case_poiseuille.make_scene(dx[0], t_end=T)
-    # periodic length: at least 5/2 support radii (2.6 dx each) at the coarsest dx
-    W = math.ceil(max(sc["domain"]["max"][0], 2.5 * 2.6 * dx[0]) / dx[0] - 1e-9) * dx[0]  # Wendland: 2h = 2.6 dx
+    # periodic length: at least 5/2 support radii at the coarsest dx for the largest h/dx the study runs (the
+    # h/dx ablation, 2.6: support 2h = 5.2 dx); every variant is checked at the coarsest level before any run
+    W = math.ceil(max(sc["domain"]["max"][0], 2.5 * 2 * HDX_ABLATION * dx[0]) / dx[0] - 1e-9) * dx[0]
     sc["domain"]["max"][0] = sc["bodies"][0]["max"][0] = sc["bodies"][1]["max"][0] = W
     sc["physics"]["xsph"] = {"epsilon": 0.0}  # a term that does nothing: the ablation must find it not needed
     sc["output"]["every"] = 0.025
     with open(scene, "w") as f:
         json.dump(sc, f)
-    s = study([scene, "--levels", 3, "--ablate", "physics.xsph,kernel.h_over_dx=2.6", "--no-plots"], out,
+    s = study([scene, "--levels", 3, "--ablate", "physics.xsph,kernel.h_over_dx=%g" % HDX_ABLATION, "--no-plots"], out,
               a.threads)
     rho0 = case_poiseuille.RHO0
 
@@ -279,7 +368,7 @@ def run_budget(a):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("case", choices=["poiseuille", "hydrostatic", "taylor_green", "gravity", "budget"])
+    ap.add_argument("case", choices=["smoke", "poiseuille", "hydrostatic", "taylor_green", "gravity", "budget"])
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--budget", type=float, default=15.0, help="budget case: wall minutes")
@@ -288,7 +377,7 @@ def main():
     if a.case in ("poiseuille", "taylor_green") and not case_taylor_green.laminar_available():
         print("SKIPPED: this build has no physics.laminar_viscosity")
         return 77
-    ok = {"poiseuille": run_poiseuille, "hydrostatic": run_hydrostatic, "taylor_green": run_taylor_green,
+    ok = {"smoke": run_smoke, "poiseuille": run_poiseuille, "hydrostatic": run_hydrostatic, "taylor_green": run_taylor_green,
           "gravity": run_gravity, "budget": run_budget}[a.case](a)
     print("OK" if ok else "FAIL")
     return 0 if ok else 1
