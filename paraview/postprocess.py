@@ -9,7 +9,7 @@ Writes (and prints each path):
                                   pressure, water_height, front, force; --compare overlays run B's
   probe_<NAME>_reference.png      a probe beside measured data (--reference-probe, see below)
   surge_front.csv/.png            time,front_x,front_rel,height_x<g>... from the frames (--gauges: heights)
-  front_dimensionless.png         Z = (x_front - x_wall)/L against T = t sqrt(2 g/L) (front from probes.csv when
+  front_dimensionless.csv/.png    Z = (x_front - x_wall)/L against T = t sqrt(2 g/L) (front from probes.csv when
                                   it has one, else from the frames) with Martin & Moyce (1952) and Koshizuka &
                                   Oka (1996) measurements; --compare overlays run B
   momentum.csv, momentum_Q.png    time,momentum_x,momentum_y,momentum_z,momentum_Q and Q(t) (+ run B)
@@ -100,7 +100,7 @@ def reference_probe_figures(run, post, specs, geom):
             xl, yl, sub = "time [s]", "pressure [Pa]", "SI units"
         ref_label = opts.get("label", os.path.splitext(os.path.basename(path))[0])
         note(plots.lines(os.path.join(post, "probe_%s_reference.png" % name), [(label_of(run), [(col, t, p)])],
-                         xl, yl, "probe %s against %s (%s)" % (col, ref_label, sub), markers=[(ref_label, x, y)]))
+                         xl, yl, "probe %s against %s\n(%s)" % (col, ref_label, sub), markers=[(ref_label, x, y)]))
 
 
 def front_figure(runs, post, frames0):
@@ -116,6 +116,9 @@ def front_figure(runs, post, frames0):
             rows = surge.surge_series(run)[1]
             t, x, src = np.array([r[0] for r in rows]), np.array([r[1] for r in rows]), "frames"
         T, Z = geom.front(t, x)
+        if run == runs[0]:
+            note(surge.write_table_csv(["time", "T", "Z"], np.column_stack([t, T, Z]),
+                                       os.path.join(post, "front_dimensionless.csv")))
         series.append((label_of(run), [("varsph (%s), L = %.4g m, n^2 = H/L = %.3g" % (src, geom.L, geom.n2), T, Z)]))
     refs = [(label + " (n^2 = 2)", T, Z) for label, T, Z in reference.front_references()]
     if not refs:

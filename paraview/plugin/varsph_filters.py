@@ -194,7 +194,7 @@ class RunReader(VTKPythonAlgorithmBase):
     def RequestInformation(self, request, inInfo, outInfo):
         try:
             self._pvd = varsph.io.resolve_run(self._dir, self._variable)
-            self._entries = varsph.read_pvd(self._pvd)
+            self._entries = varsph.io.entries_of(self._pvd)
         except (OSError, ValueError) as e:
             self._pvd, self._entries = "", []
             print("varsph Run: %s" % e, file=sys.stderr)

@@ -156,11 +156,15 @@ def read_pvd(path):
 
 
 def find_pvd(run):
-    """The run's .pvd: ``run`` itself if it is a .pvd file, else the single RUN/*.pvd (not deviation.pvd)."""
+    """The run's time series: ``run`` itself if it is a file (.pvd, or one frame file), else the single
+    RUN/*.pvd (not deviation.pvd), else the single RUN/*.vtu (what `varsph sample` writes)."""
     if os.path.isfile(run):
         return run
     cands = sorted(p for p in glob.glob(os.path.join(run, "*.pvd")) if os.path.basename(p) != "deviation.pvd")
     if not cands:
+        vtus = sorted(glob.glob(os.path.join(run, "*.vtu")))
+        if len(vtus) == 1:
+            return vtus[0]
         raise FileNotFoundError("no .pvd time series in run directory %s" % run)
     if len(cands) > 1:
         name = os.path.basename(os.path.normpath(run)) + ".pvd"
@@ -168,6 +172,14 @@ def find_pvd(run):
             if os.path.basename(c) == name:
                 return c
     return cands[0]
+
+
+def entries_of(path):
+    """[(time, frame file)] of a .pvd, or of a single frame file (its field data time, else 0)."""
+    if path.lower().endswith(".pvd"):
+        return read_pvd(path)
+    f = read_vtu(path)
+    return [(float(f.fields.get("time", 0.0)), os.path.abspath(path))]
 
 
 def resolve_run(directory="", variable="VARSPH_RUN_DIR"):
@@ -181,12 +193,13 @@ def resolve_run(directory="", variable="VARSPH_RUN_DIR"):
         try:
             return os.path.abspath(find_pvd(os.path.expanduser(from_env)))
         except FileNotFoundError as e:
-            raise FileNotFoundError("%s (from $%s)" % (e, variable))
+            raise FileNotFoundError("%s (from $%s)" % (e, variable)) from None
     try:
         return os.path.abspath(find_pvd(os.getcwd()))
     except FileNotFoundError:
         raise FileNotFoundError("no run given: set Run Directory, or $%s, or start ParaView in a run directory "
-                                "(the working directory %s has no .pvd)" % (variable or "VARSPH_RUN_DIR", os.getcwd()))
+                                "(the working directory %s has no .pvd)" % (variable or "VARSPH_RUN_DIR", os.getcwd())) \
+            from None
 
 
 def entry_at(entries, t, tol=1e-9):
@@ -203,7 +216,7 @@ def entry_at(entries, t, tol=1e-9):
 
 def frames_of_run(run):
     """[(time, vtu path)] of a run directory or .pvd file."""
-    return read_pvd(find_pvd(run))
+    return entries_of(find_pvd(run))
 
 
 def read_run(run, times=None, tol=1e-9):

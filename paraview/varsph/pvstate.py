@@ -32,10 +32,13 @@ FLUID_PALE = [0.72, 0.82, 0.93]
 
 
 def pv():
-    """paraview.simple with the varsph plugin loaded (once)."""
+    """paraview.simple with the varsph plugin loaded (once) and its proxies as simple.varsphRun, ... (a plugin
+    loaded by --plugins, or by LoadPlugin(..., ns=globals()) in the GUI's shell, is not in simple yet)."""
     from paraview import simple
     if not plugin_loaded():
         load_plugin()
+    if not hasattr(simple, "varsphRun") and hasattr(simple, "_add_functions"):
+        simple._add_functions(vars(simple))
     return simple
 
 
@@ -65,6 +68,7 @@ class RunInfo:
             x = f.points[f.fluid_mask()] if f.fluid_mask().any() else f.points
             if len(x):
                 lo, hi = np.minimum(lo, x.min(axis=0)), np.maximum(hi, x.max(axis=0))
+        self.arrays = set(first.arrays)          # point arrays of the frames
         self.dimension = first.dimension
         self.dx = first.dx if "dx" in first.fields else float(np.max(hi - lo)) / 50.0
         self.up = vertical_axis(run, self.dimension)
@@ -405,8 +409,9 @@ def free_surface_state(run=None, time=None, surface=False, view=None, portable=F
     fs = s.varsphFreeSurface(registrationName="FreeSurface", Input=r, ReconstructSurface=int(bool(surface)))
     surf = s.Threshold(registrationName="FreeSurfaceParticles", Input=s.OutputPort(fs, 0),
                        Scalars=["POINTS", "free_surface"], LowerThreshold=1, UpperThreshold=1)
-    d = _points(surf, view, info.dx)
-    _colour_bar(d, view, "velocity", "Magnitude", SPEED_LUT, "speed [m/s]", fmt="%-.3g")
+    d = _points(surf, view, info.dx, colour=None if "velocity" in info.arrays else [0.1, 0.25, 0.6])
+    if "velocity" in info.arrays:      # (`varsph sample` output has no velocity: free surface in dark blue)
+        _colour_bar(d, view, "velocity", "Magnitude", SPEED_LUT, "speed [m/s]", fmt="%-.3g")
     if surface:
         sd = s.Show(s.OutputPort(fs, 1), view)
         sd.ColorArrayName = ["POINTS", ""]
@@ -416,10 +421,11 @@ def free_surface_state(run=None, time=None, surface=False, view=None, portable=F
         else:
             sd.AmbientColor = sd.DiffuseColor = [0.3, 0.55, 0.9]
             sd.Opacity = 0.35
-    _text(view, "free surface (Marrone et al. 2010), particles coloured by speed", name="Title")
+    _text(view, "free surface (Marrone et al. 2010)%s" % (", particles coloured by speed" if "velocity" in info.arrays
+                                                           else ""), name="Title")
     time_annotation(view, r)
-    return _finish(view, info, "run", [("FreeSurfaceParticles", "velocity", "velocity", SPEED_PERCENTILES, True)],
-                   info.times, time, portable)
+    calls = [("FreeSurfaceParticles", "velocity", "velocity", SPEED_PERCENTILES, True)] if "velocity" in info.arrays else []
+    return _finish(view, info, "run", calls, info.times, time, portable)
 
 
 def pressure_state(run=None, time=None, prange=None, smoothed=False, view=None, portable=False):
@@ -428,6 +434,9 @@ def pressure_state(run=None, time=None, prange=None, smoothed=False, view=None, 
     s = pv()
     run_dir = resolve(None if portable else run)
     info = RunInfo(run_dir)
+    if "pressure" not in info.arrays:
+        raise ValueError("the frames of %s have no point array 'pressure' (they have %s)"
+                         % (run_dir, ", ".join(sorted(info.arrays))))
     view = view or new_view(name="varsph pressure")
     r = open_run(None if portable else run_dir)
     fluid = _fluid_and_walls(s, r, info.dx, view)

@@ -62,7 +62,10 @@ def build(name, args=None, view=None):
 def main(name, description):
     from varsph import pvstate
     if not from_command_line():
-        build(name)          # the GUI: run from the environment / working directory, view in its own layout
+        try:                 # the GUI: run from the environment / working directory, view in its own layout
+            build(name)
+        except (OSError, ValueError) as e:
+            print("varsph %s state: %s" % (name, e), file=sys.stderr)
         return
     a = parse(name, description)
     try:

@@ -1,4 +1,4 @@
-// `varsph paraview RUN [RUN_B] [--state NAME]`: opens the ParaView GUI on a run, the varsph plugin loaded
+// `varsph paraview RUN [RUN_B] [--state NAME] [-- PARAVIEW ARGS]`: opens the ParaView GUI on a run, the varsph plugin loaded
 // and one of the bundled states (paraview/states/) shown. Sets PV_PLUGIN_PATH to paraview/plugin, the run
 // directories in VARSPH_RUN_DIR / VARSPH_OTHER_RUN_DIR (what the states read), and puts paraview/shim on
 // PYTHONPATH, whose usercustomize.py activates the ParaView 5.11 / Python 3.11 plugin fix for this ParaView
@@ -84,10 +84,12 @@ int command_paraview(const CommandArgs& a) {
       {"PV_PLUGIN_PATH", prepend("PV_PLUGIN_PATH", (pv / "plugin").string())},
       {"PYTHONPATH", prepend("PYTHONPATH", (pv / "shim").string())},
   };
-  const std::string state_arg = "--state=" + state.string();
+  std::vector<std::string> argv = {exe, "--state=" + state.string()};
+  argv.insert(argv.end(), a.paraview_args.begin(), a.paraview_args.end());
   if (a.dry_run) {
     for (const auto& [k, v] : env) std::printf("%s=%s\n", k.c_str(), v.c_str());
-    std::printf("%s %s\n", exe.c_str(), state_arg.c_str());
+    for (std::size_t i = 0; i < argv.size(); ++i) std::printf("%s%s", i ? " " : "", argv[i].c_str());
+    std::printf("\n");
     return kExitOk;
   }
   for (const auto& [k, v] : env) {
@@ -97,7 +99,10 @@ int command_paraview(const CommandArgs& a) {
       setenv(k.c_str(), v.c_str(), 1);
   }
   std::fflush(stdout);
-  execlp(exe.c_str(), exe.c_str(), state_arg.c_str(), static_cast<char*>(nullptr));
+  std::vector<char*> cargv;
+  for (auto& x : argv) cargv.push_back(x.data());
+  cargv.push_back(nullptr);
+  execvp(exe.c_str(), cargv.data());
   throw InputError("cannot start '" + exe + "' (" + std::string(std::strerror(errno)) +
                    "): install ParaView (Debian: apt-get install paraview) or give its path with --paraview");
 }

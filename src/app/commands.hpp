@@ -13,6 +13,7 @@ struct CommandArgs {
   int threads = 0;
   bool overwrite = false, quiet = false;
   std::string state, paraview_exe;  // paraview
+  std::vector<std::string> paraview_args;
   bool dry_run = false;             // paraview
 };
 

@@ -54,7 +54,16 @@ int main(int argc, char** argv) {
                        "state; or a .py / .pvsm state file");
   paraview->add_option("--paraview", args.paraview_exe, "ParaView executable (default: paraview on PATH)");
   paraview->add_flag("--dry-run", args.dry_run, "Print the environment and command instead of starting ParaView");
+  paraview->footer("Arguments after -- go to paraview (varsph paraview RUN -- --dr).");
 
+  // `varsph paraview ... -- ARGS`: ARGS go to paraview untouched (split off before CLI11 sees them)
+  if (argc > 1 && std::string(argv[1]) == "paraview")
+    for (int i = 2; i < argc; ++i)
+      if (std::string(argv[i]) == "--") {
+        args.paraview_args.assign(argv + i + 1, argv + argc);
+        argc = i;
+        break;
+      }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

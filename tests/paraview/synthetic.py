@@ -140,10 +140,12 @@ def write_run(run_dir, frames, name="run", diagnostics=True, probes=False):
                         % (k, fr["fields"]["step"], fr["fields"]["time"], mv[0], mv[1], mv[2], Q, ke, sp, 0.1 * k))
     if probes:
         with open(os.path.join(run_dir, "probes.csv"), "w") as f:
-            f.write("time,p0_pressure,p1_pressure\n")
+            # columns as the solver names them (docs/results.md): p_NAME, h_NAME, front_x
+            f.write("time,p_p0,p_p1,h_g1,front_x\n")
             for fr in frames:
                 t = fr["fields"]["time"]
-                f.write("%.17g,%.17g,%.17g\n" % (t, 100 * math.sin(t), 50 * math.cos(t)))
+                fx = fr["points"][fr["kind"] == 0, 0].max()
+                f.write("%.17g,%.17g,%.17g,%.17g,%.17g\n" % (t, 100 * math.sin(t), 50 * math.cos(t), 0.1 * t, fx))
     return pvd
 
 
