@@ -373,6 +373,9 @@ def _finish(view, info, reader_name, calls, times, time, portable):
     fit_camera(view, info)
     _FITTED[name] = info.run
     set_time(view, pick_time(times, time))
+    reader = pv().FindSource(reader_name)
+    if reader is not None:      # the Properties panel shows the run, not the last label made
+        pv().SetActiveSource(reader)
     return view
 
 
