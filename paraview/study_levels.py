@@ -15,6 +15,17 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from varsph import pvstate  # noqa: E402
+from varsph.io import frames_of_run, read_vtu  # noqa: E402
+
+
+def pressure_range(run, frame_index=0):
+    """One colour range for every view: the fluid pressure of one frame of a run, widened to include 0."""
+    import numpy as np
+    fr = frames_of_run(run)
+    f = read_vtu(fr[frame_index][1], fr[frame_index][0])
+    p = np.asarray(f.arrays.get("pressure", np.zeros(1)), dtype=float)[f.fluid_mask()]
+    lo, hi = (float(min(0.0, p.min())), float(max(0.0, p.max()))) if len(p) else (0.0, 1.0)
+    return (lo, hi) if hi > lo else (lo, lo + 1.0)
 
 
 def runs_of(study_dir, with_ablation):
@@ -54,8 +65,16 @@ def main(argv=None):
         print("error: %s has no finished level" % a.study, file=sys.stderr)
         return 2
     s = pvstate.pv()
-    # one colour range for every view: the finest level's first frame
-    prange = pvstate.pressure_range(runs[len([r for r in runs if r[1].startswith("L")]) - 1][0])
+    # one time and one colour range for every view: the finest level's frame at --time (default its last)
+    finest = runs[len([r for r in runs if r[1].startswith("L")]) - 1][0]
+    times = [t for t, _ in frames_of_run(finest)]
+    show = times[-1] if a.time is None else min(times, key=lambda t: abs(t - a.time))
+    prange = pressure_range(finest, times.index(show))
+    # the views share one animation time and a reader shows its last frame at or before it: take the latest of
+    # the runs' frames nearest to the time, so every run shows its own nearest frame (frame times differ a little)
+    target = show
+    for run, _ in runs:
+        show = max(show, min((t for t, _ in frames_of_run(run)), key=lambda t: abs(t - target)))
     layout = s.CreateLayout("study levels")
     # equal columns: split the right-hand cell off the remaining width, one level at a time
     cells, cell = [], 0
@@ -66,28 +85,31 @@ def main(argv=None):
     cells.append(cell)
     views = []
     for k, (run, label) in enumerate(runs):
-        view = pvstate.new_view((600, 450))
+        view = pvstate.new_view((600, 450), name="study %d" % k)
         try:
             s.RemoveLayout(s.GetLayout(view))  # new_view put it in the active layout; it belongs in ours
         except Exception:
             pass
         layout.AssignView(cells[k], view)
-        pvstate.pressure_state(run, a.time, prange=prange, view=view)
+        pvstate.pressure_state(run, show, prange=prange, view=view)
         t = s.Text(registrationName="level_%d" % k, Text=label)
         d = s.Show(t, view)
         d.Color = [0, 0, 0]
         d.WindowLocation = "Lower Center"
         d.FontSize = 12
         views.append(view)
-    for k, v in enumerate(views[1:], 1):  # one camera for all (the first level's), kept linked in the GUI
+    ref = views[runs.index(next(r for r in runs if r[0] == finest))]
+    for k, v in enumerate(views):  # one camera for all (the finest level's), kept linked in the GUI
+        if v is ref:
+            continue
         for prop in ("CameraPosition", "CameraFocalPoint", "CameraViewUp", "CameraParallelScale"):
-            setattr(v, prop, getattr(views[0], prop))
-        s.AddCameraLink(views[0], v, "study_camera_%d" % k)
+            setattr(v, prop, getattr(ref, prop))
+        s.AddCameraLink(ref, v, "study_camera_%d" % k)
     size = [int(x) for x in a.size.split(",")] if a.size else [600 * len(views), 450]
     post = os.path.join(a.study, "plots")
     os.makedirs(post, exist_ok=True)
-    tshow = views[0].ViewTime
-    shot = a.screenshot or os.path.join(post, "levels_t%.4g.png" % tshow)
+    tshow = show
+    shot = a.screenshot or os.path.join(post, "levels_t%.4g.png" % target)
     s.SaveScreenshot(shot, layout, ImageResolution=size)
     print("wrote", shot)
     state = a.state or os.path.join(post, "levels.pvsm")
