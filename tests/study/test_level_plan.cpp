@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "study/ablation.hpp"
+#include "scene/scene.hpp"
 #include "study/level_plan.hpp"
 #include "test_support.hpp"
 
@@ -140,4 +141,15 @@ TEST(Ablation, ItemsThatCannotBeVariantsAreInputErrors) {
   EXPECT_THROW(vs::ablation_variants({"integrator.alpha"}, p.levels[0], notes), std::runtime_error);  // verlet
   EXPECT_THROW(vs::ablation_variants({"physics.laminar_viscosity"}, p.levels[0], notes), std::runtime_error);
   EXPECT_THROW(vs::ablation_variants({"boundary.model=nonsense"}, p.levels[0], notes), std::runtime_error);
+}
+
+TEST(Ablation, NullSetRemovesATerm) {
+  // `--set KEY=null` is the same as the file omitting KEY (CONTRACT.md): the ablations switch terms off with it
+  const auto dam = source_dir() / "pipelines/dam_break_2d_paper.json";
+  const auto with = varsph::scene::parse_scene(dam);
+  const auto without = varsph::scene::parse_scene(dam, {"physics.artificial_viscosity=null"});
+  EXPECT_TRUE(with.artificial_viscosity);
+  EXPECT_FALSE(without.artificial_viscosity);
+  EXPECT_TRUE(with.resolved.contains(nlohmann::json::json_pointer("/physics/artificial_viscosity")));
+  EXPECT_FALSE(without.resolved.contains(nlohmann::json::json_pointer("/physics/artificial_viscosity")));
 }
