@@ -237,8 +237,12 @@ std::string report_text(const StudyResult& r) {
       for (const auto& v : t.quantities) {
         if (v.cheapest_level >= 0 || shown >= 12) continue;
         if (shown++ == 0) o << "| quantity not met | tolerance | predicted dx/dt to meet it | cost x the finest |\n|---|---|---|---|\n";
-        o << "| `" << v.quantity << "` | " << g(v.tolerance) << " | " << g(v.needed_refined) << " | "
-          << g(v.needed_cost_factor, 3) << " |\n";
+        if (v.needed_refined > 0)
+          o << "| `" << v.quantity << "` | " << g(v.tolerance) << " | " << g(v.needed_refined) << " | "
+            << g(v.needed_cost_factor, 3) << " |\n";
+        else
+          o << "| `" << v.quantity << "` | " << g(v.tolerance) << " | not predictable (flagged estimate: refine "
+            "and run again) | - |\n";
       }
       if (shown) o << "\n";
     }

@@ -88,9 +88,10 @@ ToleranceResult evaluate_tolerance(const ToleranceSpec& spec, const std::vector<
     any = true;
     if (v.cheapest_level < 0) {
       overall = -1;
-      // bound ~ C h^p: the refined parameter that meets the tolerance, and its cost relative to the finest
+      // bound ~ C h^p: the refined parameter that meets the tolerance, and its cost relative to the finest;
+      // only from a trusted order (a flagged one, e.g. p = 0.25 for slow convergence, predicts nonsense)
       const double b = q.est.bound[L - 1], p = q.est.order_used;
-      if (std::isfinite(b) && b > 0 && std::isfinite(p) && p > 0) {
+      if (q.est.trusted() && std::isfinite(b) && b > 0 && std::isfinite(p) && p > 0) {
         v.needed_refined = refined[L - 1] * std::pow(v.tolerance / b, 1.0 / p);
         v.needed_cost_factor = std::pow(refined[L - 1] / v.needed_refined, cost_exponent);
       }

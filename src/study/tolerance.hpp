@@ -22,7 +22,8 @@ struct QuantityVerdict {
   std::string quantity;
   double tolerance = 0;         // absolute, in the quantity's unit
   int cheapest_level = -1;      // -1: no level meets it
-  double needed_refined = 0;    // predicted dx (or dt) that would meet it (0: not predictable)
+  double needed_refined = 0;    // predicted dx (or dt) that would meet it (0: not predictable: no level
+                                //   estimate, or a flagged one)
   double needed_cost_factor = 0;  // its cost relative to the finest level (0: not predictable)
 };
 

@@ -46,6 +46,13 @@ TEST(Tolerance, CheapestLevelAndPredictedResolution) {
   ASSERT_EQ(r.quantities.size(), 1u);
   EXPECT_NEAR(r.quantities[0].needed_refined, 0.005, 1e-12);   // h^2 = 2.5e-5
   EXPECT_NEAR(r.quantities[0].needed_cost_factor, 8.0, 1e-9);  // (0.01/0.005)^3
+  // a flagged estimate (here: slow convergence) gives no predicted resolution
+  q.est.flags = {"observed order 0.2 is below 0.5"};
+  q.est.order_used = 0.25;
+  r = vs::evaluate_tolerance(vs::parse_tolerance("a.*=2.5e-5"), {q}, h, 3);
+  ASSERT_EQ(r.quantities.size(), 1u);
+  EXPECT_EQ(r.quantities[0].needed_refined, 0.0);
+  EXPECT_EQ(r.quantities[0].needed_cost_factor, 0.0);
   r = vs::evaluate_tolerance(vs::parse_tolerance("b.*=1"), {q}, h, 3);
   EXPECT_TRUE(r.quantities.empty());
   EXPECT_EQ(r.cheapest_level, -1);
