@@ -93,19 +93,19 @@ def convergence(study, sdir, out):
             series.append(q["series"])
     for name in series:
         qs = {q["kind"]: q for q in study["quantities"] if q["series"] == name and q["window"] == w0}
-        fig, axes = plt.subplots(1, 5, figsize=(21, 3.8))
-        for ax, kind in zip(axes[:4], ["peak", "t_peak", "mean", "end"]):
-            q = qs.get(kind)
-            if not q:
-                ax.set_visible(False)
-                continue
+        kinds = [k for k in ("peak", "t_peak", "mean", "end") if k in qs]  # a series without a peak event: no gap
+        fig, axes = plt.subplots(1, len(kinds) + 1, figsize=(4.2 * (len(kinds) + 1), 3.8), squeeze=False)
+        axes = axes[0]
+        for ax, kind in zip(axes[:-1], kinds):
+            q = qs[kind]
             v, b = q["values"], q["error_bound"]
             pts = [(h[k], v[k], b[k] if finite(b[k]) else 0.0) for k in range(len(v)) if finite(v[k])]
             if pts:
                 xs, ys, es = zip(*pts)
                 ax.errorbar(xs, ys, yerr=es, fmt="o-", capsize=3, label="levels (error bars: defended error)")
             if finite(q["extrapolated"]):
-                ax.axhline(q["extrapolated"], color="k", ls="--", lw=1, label="extrapolated")
+                ax.axhline(q["extrapolated"], color="k" if q["trusted"] else "0.6", ls="--", lw=1,
+                           label="extrapolated" + ("" if q["trusted"] else " (flagged: not to be trusted)"))
             ax.set_xscale("log")
             ax.invert_xaxis()
             ax.set_xlabel(unit)
@@ -114,7 +114,10 @@ def convergence(study, sdir, out):
                                                 "" if q["trusted"] else " (flagged)"), fontsize=8)
             ax.grid(True, alpha=0.3)
             ax.legend(fontsize=6)
-        ax = axes[4]
+        ax = axes[-1]
+        qser = [q for q in study["quantities"] if q["series"] == name and q["window"] == w0
+                and q["kind"] not in ("peak", "t_peak", "mean", "end")]
+        ser_trusted = bool(qser) and qser[0]["trusted"]
         fn = os.path.join(sdir, "%s__%s.csv" % (name, ("%g:%g" % tuple(w0)).replace(":", "_")))
         if os.path.exists(fn):
             c = read_series(fn)
@@ -122,7 +125,8 @@ def convergence(study, sdir, out):
                 if ("L%d" % k) in c:
                     ax.plot(c["time"], c["L%d" % k], lw=1, label="L%d (%s %.3g)" % (k, unit.split()[0], h[k]))
             if any(finite(x) for x in c.get("extrapolated", [])):
-                ax.plot(c["time"], c["extrapolated"], "k--", lw=1, label="extrapolated")
+                ax.plot(c["time"], c["extrapolated"], "--", color="k" if ser_trusted else "0.6", lw=1,
+                        label="extrapolated" + ("" if ser_trusted else " (flagged: not to be trusted)"))
             ax.set_xlabel("time [s]")
             ax.set_title(name + " (common time base)", fontsize=8)
             ax.grid(True, alpha=0.3)
