@@ -12,6 +12,9 @@ never by one metric (issue 13, point 5).
 
   /usr/bin/python3 pipelines/validation/setup_matrix.py --compare OUT1 OUT2 ...   # one column per set-up
 
+--update re-runs only --cases in an existing OUT (after a harness fix) and keeps the other cases' rows of
+OUT/matrix.json in their places.
+
 --quick runs coarse versions (a few minutes on an idle 2-core machine, no 3D case); the full matrix takes
 about an hour (docs/validation.md section 12). --sensor merges keys into every pressure probe of every case
 (e.g. the sensor radius of the lead's pressure probe). Writes OUT/matrix.json (rows and every case's raw
@@ -282,9 +285,41 @@ def compare(dirs):
             r = next((r for r in m["rows"] if (r["case"], r["metric"]) == k), None)
             cells.append("" if r is None else cell(r["value_text"]) + {True: " ok", False: " **x**", None: ""}[r["pass"]])
         out += f"| {k[0]} | {cell(k[1])} | {cell(goals[k])} | " + " | ".join(cells) + " |\n"
+    for case in dict.fromkeys(k[0] for k in keys):  # the cost of each case, from its first row
+        cells = []
+        for m in runs:
+            r = next((r for r in m["rows"] if r["case"] == case), None)
+            ok = r is not None and isinstance(r.get("wall"), (int, float)) and r.get("load") is not None
+            cells.append(f"{r['wall']:.0f} ({r['load']:.1f})" if ok else "")
+        if any(cells):
+            out += f"| {case} | solver wall s (load) |  | " + " | ".join(cells) + " |\n"
     out += "\n" + "; ".join(f"{n}: {m.get('setup') or 'own scenes'} ({m.get('description', '')})" for n, m in
                              zip(names, runs)) + "\n"
     return out
+
+
+def load_kept(out, names):
+    """--update: the earlier matrix.json's rows, in order, with the cases about to be re-run marked for replacement."""
+    p = os.path.join(out, "matrix.json")
+    try:
+        with open(p) as f:
+            old = json.load(f)
+    except (OSError, json.JSONDecodeError) as e:
+        vsetup.die(f"{p}: --update needs an earlier matrix result ({e})")
+    order = []
+    for r in old["rows"]:
+        if r["case"] not in order:
+            order.append(r["case"])
+    order += [n for n in names if n not in order]
+    return {"order": order, "old": old["rows"], "fresh": {}, "cases": old.get("cases", {})}
+
+
+def merged_rows(kept):
+    """Rows of every case in the earlier order: the re-run cases' fresh rows, the others' old ones."""
+    rows = []
+    for case in kept["order"]:
+        rows += kept["fresh"].get(case) or [r for r in kept["old"] if r["case"] == case]
+    return rows
 
 
 def main():
@@ -296,6 +331,8 @@ def main():
     ap.add_argument("--sensor", help="JSON object merged into every pressure probe, e.g. '{\"radius\": 0.005}'")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--timeout", type=float, default=None, help="seconds per varsph run (default none)")
+    ap.add_argument("--update", action="store_true",
+                    help="keep the rows of the cases not run now from an existing OUT/matrix.json")
     ap.add_argument("-o", "--outdir")
     a = ap.parse_args()
     if a.compare:
@@ -321,6 +358,7 @@ def main():
     setup = vsetup.load_setup(a.setup) if a.setup else None
     tag = os.path.splitext(os.path.basename(a.setup))[0] if a.setup else "own_scenes"
     out = a.outdir or os.path.join(vc.ROOT, "runs", "setup_matrix", tag + ("_quick" if a.quick else ""))
+    kept = load_kept(out, names) if a.update else None  # before anything is written
     os.makedirs(out, exist_ok=True)
     ctx = Ctx(setup, a.setup, a.quick, out, a.threads, sensor, a.timeout)
     desc = vsetup.describe(setup) if setup else "each case's own scene"
@@ -336,10 +374,14 @@ def main():
             broken = True
         raw[name] = res
         rows += rs
+        if kept is not None:
+            kept["fresh"][name] = rs
         for r in rs:
             print(f"  {r['case']:12s} {r['metric']:36s} {r['value_text']:>10s}  {r['goal']:14s} "
                   f"{ {True: 'PASS', False: 'FAIL', None: ''}[r['pass']]:4s}  {r['note']}", flush=True)
         print(f"  ({name}: {time.monotonic() - t1:.0f} s elapsed, load {vc.loadavg():.1f})", flush=True)
+        if kept is not None:
+            rows, raw = merged_rows(kept), dict(kept["cases"], **raw)
         with open(os.path.join(out, "matrix.json"), "w") as f:
             json.dump({"setup": a.setup, "description": desc, "quick": a.quick, "sensor": sensor, "rows": rows,
                        "cases": raw, "elapsed_s": time.monotonic() - t0}, f, indent=1, default=str)
