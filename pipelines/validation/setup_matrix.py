@@ -24,7 +24,7 @@ a case could not be evaluated, 2 on bad input.
 Cases (goals: issue 13 where it names one, else the stated engineering bound; "info" rows carry none):
   dam_break      n^2 = 2 column in a long tank (case_column_height.py): Martin & Moyce front at best shift
                  (<= 0.9 %; quick, dx 10 mm: <= 3 %), Koshizuka & Oka front (info), back-wall height (<= 10 %)
-  hydrostatic    tank at rest (case_hydrostatic.py, 2 s / quick 1 s): centre-line and wall pressure <= 1 %
+  hydrostatic    tank at rest (case_hydrostatic.py --settle, 2 s / quick 1 s): centre-line and wall pressure <= 1 %
   buchner        Buchner (2002) wall pressure (case_buchner.py, H/dx 50 / quick 25): RMS <= 0.08, maxima within
                  0.15 / 0.2, survival to T = 8, energy lost before the impact <= 2 %, no energy growth
   jet_plate      jet on a plate (case_jet_plate.py, dx 5 / quick 10 mm): force <= 3 %, stagnation pressure <= 5 %
@@ -132,8 +132,10 @@ def case_dam_break_rows(ctx):
 def case_hydrostatic_rows(ctx):
     dx, t_end = (0.02, 1.0) if ctx.quick else (0.01, 2.0)
     scene = ctx.scene("hydrostatic", case_hydrostatic.SCENE)
-    r = case_hydrostatic.run_case(dx, None, ctx.threads, ctx.run_dir("hydrostatic"), t_end, scene=scene)
-    n = f"dx {dx:g}, {t_end:g} s, means over the last 20 %"
+    # the consistent start (rho0, gravity ramp, damping to t_end / 2): the scene's hydrostatic start carries a
+    # ~1-2 % bias at every dx whatever the set-up (inconsistent lattice volumes, docs/validation.md section 5)
+    r = case_hydrostatic.run_case(dx, None, ctx.threads, ctx.run_dir("hydrostatic"), t_end, scene=scene, settle=True)
+    n = f"dx {dx:g}, {t_end:g} s, settled start, means over the last 20 %"
     if r["rc"] != 0:
         return r, [row("hydrostatic", "survives", r["rc"], ("eq", 0), res=r, note=r["message"][:120])]
     return r, [
@@ -149,11 +151,16 @@ def case_buchner_rows(ctx):
     scene = ctx.scene("buchner", case_buchner.SCENE)
     r = case_buchner.run_case(N, None, ctx.threads, ctx.run_dir("buchner"), scene,
                               png=os.path.join(ctx.out, "buchner_p1.png"), timeout=ctx.timeout)
-    n = f"H/dx {N}"
+    return r, buchner_rows(r, N)
+
+
+def buchner_rows(r, N):
+    """Table rows of a case_buchner.run_case result (also for a run made outside the matrix)."""
+    n = f"H/dx {N:g}"
     rows = [row("buchner", "survives to T = 8", r["rc"], ("eq", 0), res=r,
                 note=(f"stopped at T = {r['T_reached']:.2f}: " + r["message"][:100]) if r["rc"] else n)]
     if "rms" not in r:
-        return r, rows
+        return rows
     rows += [
         row("buchner", "P1 RMS (T >= 2)", r["rms"], ("<=", 0.08), res=r, fmt="{:.3f}", note=n + "; peers 0.24-0.71"),
         row("buchner", "first max - 0.686", r["first_max_diff"], ("<=", 0.15), res=r, fmt="{:+.3f}",
@@ -169,7 +176,7 @@ def case_buchner_rows(ctx):
         row("buchner", "energy growth (max)", r["energy_growth_max"], ("<=", 0.005), res=r, fmt="{:.2%}",
             note=f"lost by T {r['energy_end_T']:.1f}: {r['energy_loss_end']:.0%} (info)"),
     ]
-    return r, rows
+    return rows
 
 
 def case_jet_rows(ctx):
