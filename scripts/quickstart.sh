@@ -11,4 +11,5 @@ if [ -f paraview/postprocess.py ]; then
   xvfb-run -a pvpython paraview/postprocess.py "$run"
 fi
 echo
-echo "Open $run/dam_break_2d_paper.pvd in ParaView; pictures and tables are in $run/post/"
+echo "Pictures and tables are in $run/post/. Open the run in ParaView (plugin loaded, a state shown):"
+echo "  ./build/release/bin/varsph paraview $run [--state free_surface|pressure]"
