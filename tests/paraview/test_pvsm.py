@@ -5,7 +5,7 @@ two runs for deviation), and after the first time change (what the GUI does righ
 colour range is the frame's, the particles have the run's dx and the camera fits the run.
 Part "bundled" (fast tier): the states in paraview/states/ on other runs. Part "make" (validation tier, two more
 pvpython sessions): make_pvsm.py writes both kinds, and a run-specific state reads its run.
-Usage: xvfb-run -a pvpython test_pvsm.py {bundled|make}"""
+Usage: xvfb-run -a -s -noreset pvpython test_pvsm.py {bundled|make}"""
 import glob
 import json
 import os
