@@ -1,6 +1,6 @@
 """Post-process a varsph run into RUN_DIR/post/.
 
-    xvfb-run -a pvpython paraview/postprocess.py RUN_DIR [--compare OTHER_RUN] [--times t1,t2,...]
+    xvfb-run -a -s -noreset pvpython paraview/postprocess.py RUN_DIR [--compare OTHER_RUN] [--times t1,t2,...]
         [--gauges x1,x2,...] [--reference-probe NAME=FILE.csv[:H=..][:rho=..][:g=..][:label=..]]...
         [--probe-points "x,y[,z];..."] [--no-snapshots]
 

@@ -1,9 +1,9 @@
 """ParaView pipelines behind the states (paraview/states/), the postprocess.py pictures and `varsph paraview`.
 
 Needs ``paraview.simple`` (pvpython, or the GUI's Python); rendering without a display needs
-``xvfb-run -a``. Every state reads its run through the plugin's *varsph Run* source, so a state built with
-``run=None`` (what the bundled .pvsm files hold) reads ``$VARSPH_RUN_DIR`` (run B: ``$VARSPH_OTHER_RUN_DIR``)
-or the working directory when it is loaded, and one saved state opens any run.
+``xvfb-run -a -s -noreset`` (paraview/README.md). Every state reads its run through the plugin's *varsph Run*
+source, so a state built with ``run=None`` (what the bundled .pvsm files hold) reads ``$VARSPH_RUN_DIR``
+(run B: ``$VARSPH_OTHER_RUN_DIR``) or the working directory when it is loaded, and one saved state opens any run.
 
 What every state shows (issue 17): one full-size render view in its own layout, particles as Point Gaussian
 discs of diameter dx, the camera fitted to where the fluid goes during the run with the colour bar beside

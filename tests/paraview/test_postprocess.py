@@ -2,7 +2,7 @@
 probes.csv (p_, h_, front_x columns as the solver names them) compared with a shifted copy that ends earlier
 and differs in two scene keys, with reference probe data (dimensionless T,P and SI t,p); a single-frame run
 without probes.csv (must not crash); a malformed reference file (exit 2 naming it).
-Usage: xvfb-run -a pvpython test_postprocess.py"""
+Usage: xvfb-run -a -s -noreset pvpython test_postprocess.py"""
 import csv
 import json
 import os

@@ -2,7 +2,7 @@
 Point Gaussian particles of diameter dx, the camera fitted to the fluid with the colour bar beside it, the time
 annotation of the frame shown, colour ranges from the percentiles of each frame; the deviation state at the
 last common time of two runs that end at different times, saying so. Screenshots: the fluid region is drawn.
-Usage: xvfb-run -a pvpython test_pvstate.py"""
+Usage: xvfb-run -a -s -noreset pvpython test_pvstate.py"""
 import os
 
 import numpy as np

@@ -1,5 +1,5 @@
 """End-to-end on a real solver run: varsph runs a short 2D dam break, then the post-processing reads it.
-Usage: xvfb-run -a pvpython test_solver_run.py VARSPH_EXECUTABLE SCENE.json
+Usage: xvfb-run -a -s -noreset pvpython test_solver_run.py VARSPH_EXECUTABLE SCENE.json
 
 Checks (frame 0 is the initial block of fluid against the left wall and the floor, hydrostatic pressure):
 the .pvd frame times are the decimal multiples of output.every (0.02, 0.04, ...), ParaView's PVD reader reads

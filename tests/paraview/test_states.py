@@ -1,7 +1,7 @@
 """Each state script (paraview/states/*.py) loads a small synthetic run from another working directory
 and renders a non-empty image: the PNG exists, has the requested size, and is not a single colour; given the
 runs on the command line, and given them in $VARSPH_RUN_DIR / $VARSPH_OTHER_RUN_DIR as the GUI does.
-Usage: xvfb-run -a pvpython test_states.py {free_surface|pressure|deviation}"""
+Usage: xvfb-run -a -s -noreset pvpython test_states.py {free_surface|pressure|deviation}"""
 import os
 import subprocess
 import sys
