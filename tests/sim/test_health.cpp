@@ -1,0 +1,278 @@
+// The health rules (sim/health.hpp) one at a time on constructed states, and the particle removal they
+// use (ParticleStore::compact, Simulation::remove_particles, StateSnapshot after a removal).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/scene.hpp"
+#include "sim/health.hpp"
+#include "sim/restart.hpp"
+#include "sim/simulation.hpp"
+
+using namespace varsph;
+
+namespace {
+
+// A 0.2 x 0.2 m block of water at rest (dx 0.02: 100 particles) in a closed 0.3 x 0.3 m tank with
+// dynamic walls, gravity on, fixed dt. `patch` overrides keys (--set syntax).
+scene::Scene block_scene(const std::vector<std::string>& sets = {}) {
+  const auto j = nlohmann::json::parse(R"({
+    "name": "block", "dimension": 2,
+    "domain": {"min": [-0.1, -0.1], "max": [0.4, 0.4]},
+    "particles": {"spacing": 0.02},
+    "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},
+    "fluid": {"rho0": 1000.0, "c0": 20.0},
+    "gravity": [0.0, -9.81],
+    "bodies": [
+      {"kind": "fluid", "shape": "box", "min": [0.0, 0.0], "max": [0.2, 0.2], "initial_pressure": "hydrostatic"},
+      {"kind": "boundary", "shape": "tank", "min": [0.0, 0.0], "max": [0.3, 0.3], "layers": 3,
+       "open": [false, false, false, false]}
+    ],
+    "physics": {"density": "continuity", "artificial_viscosity": {"alpha": 0.1}},
+    "boundary": {"model": "dynamic"},
+    "integrator": {"type": "verlet", "dt": 0.0001},
+    "time": {"end": 0.01}
+  })");
+  return scene::parse_scene_json(j, "block.json", sets);
+}
+
+// storage index of the fluid particle with the given id
+template <int D>
+std::size_t index_of(const Simulation<D>& sim, std::int64_t id) {
+  for (std::size_t i = 0; i < sim.size(); ++i)
+    if (sim.fields().id[i] == id) return i;
+  return sim.size();
+}
+
+// id -> (velocity x, density, mass) of every particle: checks that compaction keeps fields with their id
+std::map<std::int64_t, std::array<double, 3>> by_id(const Simulation<2>& sim) {
+  std::map<std::int64_t, std::array<double, 3>> m;
+  const auto& f = sim.fields();
+  for (std::size_t i = 0; i < sim.size(); ++i) m[f.id[i]] = {double(f.v[i][0]), double(f.rho[i]), double(f.mass[i])};
+  return m;
+}
+
+// a distinct velocity per particle so a misplaced field shows
+void label_velocities(Simulation<2>& sim) {
+  auto& f = sim.fields();
+  for (std::size_t i = 0; i < sim.size(); ++i)
+    if (f.kind[i] == 0) f.v[i][0] = Real(1e-3 * double(f.id[i]));
+}
+
+}  // namespace
+
+TEST(ParticleStore, CompactKeepsTheSurvivorsInOrderInEveryField) {
+  ParticleStore st;
+  auto& a = st.add<Real>("a");
+  auto& b = st.add<Vec<3>>("b");
+  auto& id = st.add<std::int64_t>("id");
+  st.resize(6);
+  for (std::size_t i = 0; i < 6; ++i) {
+    a[i] = Real(10 * i);
+    b[i] = Vec<3>::Constant(Real(i));
+    id[i] = std::int64_t(100 + i);
+  }
+  const std::vector<std::uint32_t> kept = {0, 2, 3, 5};
+  st.compact(kept);
+  ASSERT_EQ(st.size(), 4u);
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    EXPECT_EQ(a[k], Real(10 * kept[k]));
+    EXPECT_EQ(b[k], Vec<3>::Constant(Real(kept[k])));
+    EXPECT_EQ(id[k], std::int64_t(100 + kept[k]));
+  }
+  // a field registered later is sized to the survivors
+  EXPECT_EQ(st.add<std::int32_t>("late").size(), 4u);
+  const std::vector<std::uint32_t> unsorted = {1, 0};
+  EXPECT_THROW(st.compact(unsorted), std::logic_error);
+}
+
+TEST(Health, FluidParticleOutsideTheDomainIsRemovedAndCounted) {
+  Simulation<2> sim(block_scene());
+  label_velocities(sim);
+  HealthMonitor<2> health(sim.scene());
+  health.start(sim);
+  const std::size_t n = sim.size(), n_fluid = sim.count(0);
+  const auto before = by_id(sim);
+  const std::int64_t gone = 37;
+  sim.fields().x[index_of(sim, gone)] = Vec<2>(0.1, 0.45);  // above domain.max (0.4)
+  ASSERT_EQ(health.after_step(sim), "");
+  EXPECT_EQ(sim.size(), n - 1);
+  EXPECT_EQ(sim.count(0), n_fluid - 1);
+  EXPECT_EQ(health.removed()[0], 1);
+  EXPECT_EQ(health.removed_total(), 1);
+  ASSERT_EQ(health.last_removed().size(), 1u);
+  EXPECT_EQ(health.last_removed()[0].id, gone);
+  EXPECT_EQ(health.last_removed()[0].rule, RemovalRule::Domain);
+  EXPECT_DOUBLE_EQ(health.last_removed()[0].x[1], 0.45);
+  EXPECT_EQ(health.last_removed()[0].fluid_neighbours, 0);
+  // every survivor kept its own velocity, density and mass (fields compacted together, ids stable)
+  auto after = by_id(sim);
+  EXPECT_EQ(after.count(gone), 0u);
+  for (auto& [id, vals] : after) EXPECT_EQ(vals, before.at(id)) << "particle id " << id;
+  // the grid is valid for the survivors: a further step runs and nothing else is flagged
+  sim.advance();
+  EXPECT_EQ(health.after_step(sim), "");
+  EXPECT_EQ(health.removed_total(), 1);
+}
+
+TEST(Health, DensityOutsideTheBoundsIsRemovedAndCounted) {
+  Simulation<2> sim(block_scene());
+  HealthMonitor<2> health(sim.scene());
+  health.start(sim);
+  // health.max_density_error = 0.3 (DualSPHysics' 700-1300 kg/m^3): 0.69 rho0 and 1.31 rho0 go, 0.71 stays
+  sim.fields().rho[index_of(sim, 5)] = Real(690);
+  sim.fields().rho[index_of(sim, 6)] = Real(1310);
+  sim.fields().rho[index_of(sim, 7)] = Real(710);
+  ASSERT_EQ(health.after_step(sim), "");
+  EXPECT_EQ(health.removed()[1], 2);
+  EXPECT_EQ(index_of(sim, 5), sim.size());
+  EXPECT_EQ(index_of(sim, 6), sim.size());
+  EXPECT_LT(index_of(sim, 7), sim.size());
+  // a splash-like particle has fewer neighbours than one inside the block: the record says how many
+  for (const auto& r : health.last_removed()) EXPECT_GT(r.fluid_neighbours, 0);
+}
+
+TEST(Health, SpeedAboveMachOneIsRemovedAndCounted) {
+  Simulation<2> sim(block_scene());
+  HealthMonitor<2> health(sim.scene());
+  health.start(sim);
+  sim.fields().v[index_of(sim, 12)] = Vec<2>(0, 20.5);  // c0 = 20 m/s
+  ASSERT_EQ(health.after_step(sim), "");
+  EXPECT_EQ(health.removed()[2], 1);
+}
+
+TEST(Health, NonFiniteStateStopsNamingTheRuleAndParticle) {
+  Simulation<2> sim(block_scene());
+  HealthMonitor<2> health(sim.scene());
+  health.start(sim);
+  const std::size_t n = sim.size();
+  sim.fields().v[index_of(sim, 42)][1] = std::numeric_limits<Real>::quiet_NaN();
+  const std::string msg = health.after_step(sim);
+  EXPECT_NE(msg.find("health rule 'nan'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("particle id 42"), std::string::npos) << msg;
+  EXPECT_EQ(sim.size(), n) << "a blow-up leaves the state as the step made it";
+}
+
+TEST(Health, StopModeTurnsAViolationIntoABlowUp) {
+  Simulation<2> sim(block_scene({"health.on_violation=\"stop\""}));
+  HealthMonitor<2> health(sim.scene());
+  health.start(sim);
+  sim.fields().rho[index_of(sim, 5)] = Real(690);
+  const std::string msg = health.after_step(sim);
+  EXPECT_NE(msg.find("health rule 'density'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("particle id 5 has density 690"), std::string::npos) << msg;
+  EXPECT_EQ(health.removed_total(), 0);
+}
+
+TEST(Health, ManyParticlesOutOfBoundsAtOnceIsABlowUp) {
+  // 100 fluid particles, health.max_removed_fraction 0.01 per 20 steps: one is a splash, two at once is not
+  Simulation<2> sim(block_scene());
+  HealthMonitor<2> health(sim.scene());
+  health.start(sim);
+  ASSERT_EQ(sim.count(0), 100u);
+  sim.fields().rho[index_of(sim, 3)] = Real(600);
+  ASSERT_EQ(health.after_step(sim), "");
+  sim.advance();  // the next step: within the window
+  sim.fields().rho[index_of(sim, 4)] = Real(600);
+  const std::size_t n = sim.size();
+  const std::string msg = health.after_step(sim);
+  EXPECT_NE(msg.find("health rule 'rate'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("2 fluid particles"), std::string::npos) << msg;
+  EXPECT_EQ(sim.size(), n);
+  // water leaving the domain is an outflow, not a failure: it does not count toward the rate
+  Simulation<2> out(block_scene());
+  HealthMonitor<2> h2(out.scene());
+  h2.start(out);
+  for (std::int64_t id = 90; id < 100; ++id) out.fields().x[index_of(out, id)][1] = Real(0.5);
+  EXPECT_EQ(h2.after_step(out), "");
+  EXPECT_EQ(h2.removed()[0], 10);
+}
+
+TEST(Health, TooManyRemovedOverTheRunIsABlowUp) {
+  // one removal per window never trips the rate rule; the total rule (5 % of 100) stops the sixth
+  Simulation<2> sim(block_scene({"health.removal_window=1"}));
+  HealthMonitor<2> health(sim.scene());
+  health.start(sim);
+  std::string msg;
+  for (std::int64_t id = 0; id < 6 && msg.empty(); ++id) {
+    sim.fields().rho[index_of(sim, id)] = Real(600);
+    msg = health.after_step(sim);
+  }
+  EXPECT_NE(msg.find("health rule 'total'"), std::string::npos) << msg;
+  EXPECT_EQ(health.removed()[1], 5);
+}
+
+TEST(Health, EnergyGrowthOfAnExplodingRunIsABlowUp) {
+  // dt 10x the acoustic limit h/c0 (1.3e-3 s): the block explodes. Density and speed bounds opened wide
+  // so that only the energy rule can see it; it must fire before anything is non-finite.
+  Simulation<2> sim(block_scene({"integrator.dt=0.013", "health.max_density_error=90", "health.max_mach=1e5",
+                                 "health.max_removed_fraction=1", "health.max_removed_total=1"}));
+  HealthMonitor<2> health(sim.scene());
+  health.start(sim);
+  ASSERT_TRUE(health.energy_rule_active());
+  std::string msg;
+  int steps = 0;
+  while (msg.empty() && steps < 200) {
+    sim.advance();
+    ++steps;
+    msg = health.after_step(sim);
+  }
+  EXPECT_NE(msg.find("health rule 'energy'"), std::string::npos) << msg << " after " << steps << " steps";
+  EXPECT_NE(msg.find("fastest: particle id"), std::string::npos) << msg;
+  // and the same block with a stable dt keeps its energy (no false alarm over 200 steps)
+  Simulation<2> calm(block_scene());
+  HealthMonitor<2> h2(calm.scene());
+  h2.start(calm);
+  for (int k = 0; k < 200; ++k) {
+    calm.advance();
+    ASSERT_EQ(h2.after_step(calm), "") << "step " << k;
+  }
+  EXPECT_LT(h2.max_energy_growth_seen(), 0.01);
+}
+
+TEST(Health, EnergyRuleIsOffWhereEnergyEntersLegitimately) {
+  Simulation<2> moving(block_scene({"bodies.1.motion={\"type\": \"translation\", \"velocity\": [0.1, 0]}"}));
+  EXPECT_FALSE(HealthMonitor<2>(moving.scene()).energy_rule_active());
+  Simulation<2> pushed(block_scene({"physics.body_force=[1, 0]"}));
+  EXPECT_FALSE(HealthMonitor<2>(pushed.scene()).energy_rule_active());
+  Simulation<2> off(block_scene({"health.max_energy_growth=0"}));
+  EXPECT_FALSE(HealthMonitor<2>(off.scene()).energy_rule_active());
+}
+
+TEST(Health, SnapshotTakenBeforeARemovalRestoresTheRemovedParticles) {
+  Simulation<2> sim(block_scene());
+  HealthMonitor<2> health(sim.scene());
+  health.start(sim);
+  const auto before = by_id(sim);
+  StateSnapshot<2> snap;
+  snap.capture(sim, nlohmann::json::object());
+  sim.fields().rho[index_of(sim, 5)] = Real(690);
+  ASSERT_EQ(health.after_step(sim), "");
+  ASSERT_EQ(sim.size() + 1, before.size());
+  snap.restore(sim);
+  EXPECT_EQ(sim.count(0), 100u);
+  EXPECT_EQ(by_id(sim), before);
+}
+
+TEST(Health, StateRoundTripsThroughTheCheckpointJson) {
+  Simulation<2> sim(block_scene());
+  HealthMonitor<2> a(sim.scene());
+  a.start(sim);
+  sim.fields().rho[index_of(sim, 5)] = Real(690);
+  ASSERT_EQ(a.after_step(sim), "");
+  HealthMonitor<2> b(sim.scene());
+  b.restore_state(nlohmann::json::parse(a.save_state().dump()));
+  EXPECT_EQ(b.removed(), a.removed());
+  EXPECT_EQ(b.initial_fluid(), 100u);
+  EXPECT_EQ(b.initial_energy(), a.initial_energy());
+  EXPECT_EQ(b.energy_scale(), a.energy_scale());
+  // the restored window still holds the removal: a second one within it trips the rate rule in both
+  sim.advance();
+  sim.fields().rho[index_of(sim, 6)] = Real(600);
+  EXPECT_NE(b.after_step(sim).find("'rate'"), std::string::npos);
+}
