@@ -110,6 +110,7 @@ class HealthMonitor {
   struct BlockFlags {
     long flagged = 0;
     long first_nan = -1;
+    FluidEnergy e;  // of the fluid particles not flagged
   };
   std::vector<BlockFlags> block_part_;          // per fixed block of particles (scratch, grows once)
   mutable std::vector<FluidEnergy> energy_part_;  // idem
