@@ -9,6 +9,8 @@ Cases (the shipped scenes' physics; only the geometry changes):
                          0.58 m) run on to t = 1 s: through the impact on the far wall (t ~ 0.3 s) and back
   buchner2002            pipelines/validation/buchner_2002.json as shipped (H/dx 50, DualSPHysics-like physics,
                          to T = 8; it stopped with exit 3 at T = 7.73 before the health rules)
+  buchner2002_mmw        the same with dam_break_mm_wendland.json's method blocks (vsetup.py) and dt 0.73 h/c0,
+                         as pipelines/work_precision.py runs it (exit 3 at t = 0.93-1.10 s before)
   buchner25, buchner50   Colagrossi & Landrini (2003) / Buchner (2002) set-up: column 2H x H (H = 0.6 m)
                          against the left wall of a tank 5.366H long (open top, 2H high), to t sqrt(g/H) = 8,
                          H/dx = 25 and 50, physics of pipelines/validation/dam_break_mm_wendland.json
@@ -87,6 +89,19 @@ def mm_wendland_wall_scene():
     return s, {"H": 0.29, "wall": s["bodies"][1]["max"][0], "g": -s["gravity"][1], "dx": s["particles"]["spacing"]}
 
 
+def buchner2002_mmw_scene():
+    """buchner_2002.json with the method blocks of dam_break_mm_wendland.json merged in by vsetup.py and
+    dt = 0.73 h/c0: the Buchner row of pipelines/work_precision.py that stopped with exit 3 at t = 0.93-1.10 s."""
+    import vsetup
+    out = os.path.join(vc.ROOT, "runs", "survive_scenes", "buchner2002_mmw.json")
+    path = vsetup.scene_with_setup(os.path.join(vc.HERE, "buchner_2002.json"),
+                                   os.path.join(vc.HERE, "dam_break_mm_wendland.json"), out)
+    s = json.load(open(path))
+    s["integrator"] = {"type": "verlet", "dt": round(0.73 * vc.h_over_c0(path), 10)}
+    s["output"] = {"every": 0.05, "probes_every": 0.002}
+    return s, {"H": H_B, "wall": s["bodies"][1]["max"][0], "g": -s["gravity"][1], "dx": s["particles"]["spacing"]}
+
+
 def buchner2002_scene():
     """pipelines/validation/buchner_2002.json unchanged but for the output cadence (probes every 2 ms)."""
     s = json.load(open(os.path.join(vc.HERE, "buchner_2002.json")))
@@ -97,6 +112,7 @@ def buchner2002_scene():
 CASES = {
     "mm_wendland_wall": mm_wendland_wall_scene,
     "buchner2002": buchner2002_scene,
+    "buchner2002_mmw": buchner2002_mmw_scene,
     "buchner25": lambda: buchner_scene(25),
     "buchner50": lambda: buchner_scene(50),
     "square50": lambda: square_scene(0.005, "auto"),
@@ -193,9 +209,10 @@ def plot(rows, outdir, runs):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--cases", default="mm_wendland_wall,buchner50,square50,square50_c88,buchner2002")
+    ap.add_argument("--cases", default="mm_wendland_wall,buchner2002_mmw,buchner50,square50,square50_c88,buchner2002")
     ap.add_argument("--rules", default="stop,default", help="stop (strict), default (remove and count)")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--t-end", type=float, default=None, help="stop every case at this time [s] (default: the case's)")
     ap.add_argument("--plot", action="store_true")
     ap.add_argument("-o", "--outdir", default=os.path.join(vc.ROOT, "runs", "survive"))
     a = ap.parse_args()
@@ -203,6 +220,8 @@ def main():
     rows, runs = [], {}
     for case in a.cases.split(","):
         scene, geo = CASES[case]()
+        if a.t_end is not None:
+            scene["time"]["end"] = a.t_end
         path = os.path.join(a.outdir, case + ".json")
         with open(path, "w") as f:
             json.dump(scene, f, indent=1)
