@@ -18,6 +18,7 @@
 #include <map>
 #include <sstream>
 
+#include "detail/input_checks.h"
 #include "varsph/geometry/geometry_error.h"
 
 namespace varsph::geometry {
@@ -78,6 +79,9 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
   if (std::filesystem::file_size(path, ec) == 0)
     throw GeometryError(path, "mesh file is empty; expected at least one triangle");
 
+  // counts the header declares must fit the file before a reader allocates from them
+  detail::check_declared_counts(path, ext);
+
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
   bool ok = false;
@@ -86,16 +90,27 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
   } catch (const std::exception& e) {
     throw GeometryError(path, std::string("cannot parse mesh file (") + e.what() + ")");
   }
-  if (!ok && polys.empty())
+  // a reader that stopped early (premature end, bad token) may leave a partial soup: never use it
+  if (!ok)
     throw GeometryError(path, "cannot parse mesh file as " + ext.substr(1) +
-                                  "; expected a valid polygon mesh in that format");
+                                  "; expected a valid polygon mesh in that format (truncated or damaged?)");
   if (polys.empty()) throw GeometryError(path, "mesh file holds no faces; expected at least one triangle");
 
+  // non-finite or absurd coordinates stop here, before any repair or sampler sees them
+  auto check = [&](bool bounded, const char* stage) {
+    std::vector<double> xyz(3 * pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      xyz[3 * i] = pts[i].x(); xyz[3 * i + 1] = pts[i].y(); xyz[3 * i + 2] = pts[i].z();
+    }
+    detail::check_coordinates(path, xyz.data(), pts.size(), bounded, stage);
+  };
+  check(false, "in the file");
   // transform the vertices first (repairs then work in metres)
   for (auto& p : pts) {
     const Eigen::Vector4d q = T * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
     p = Point(q.x(), q.y(), q.z());
   }
+  check(true, "after the transform");
   // merge exactly duplicated vertices
   std::map<Point, std::size_t> unique;
   std::vector<Point> upts;
