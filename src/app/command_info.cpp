@@ -9,6 +9,9 @@ namespace varsph {
 int command_info(const CommandArgs& a) {
   const scene::Scene s = scene::parse_scene(a.scene, a.overrides);
   std::fputs(describe_scene(s).c_str(), stdout);
+  // unusual but accepted values (scene/sanity.hpp; docs/scene.md "Sanity checks")
+  if (s.warnings.empty()) std::fputs("warnings           none\n", stdout);
+  for (const auto& w : s.warnings) std::printf("warning            %s\n", w.c_str());
   return 0;
 }
 

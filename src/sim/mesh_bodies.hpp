@@ -7,9 +7,10 @@
 
 namespace varsph {
 
-// Appends the particles (and outward normals for boundary bodies) of scene body `index`.
+// Appends the particles (and outward normals for boundary bodies) of scene body `index`; a mesh estimated
+// to produce more than `max_particles` is refused before sampling (InputError naming the number).
 template <int D>
-void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>& positions,
-                      std::vector<Vec<D>>& normals);
+void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_particles,
+                      std::vector<Vec<D>>& positions, std::vector<Vec<D>>& normals);
 
 }  // namespace varsph
