@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# CI stage (issue 16, docs/reliability.md): builds the libFuzzer harnesses of fuzz/ with clang-14 and
+# AddressSanitizer + UndefinedBehaviorSanitizer into build/fuzz, replays the regression corpus
+# (fuzz/regressions/: crashers found so far) and the seed corpus made from the repository's own files,
+# then fuzzes each harness for FUZZ_SECONDS (default 4) seconds. Needs build/release/bin/varsph (checkpoint
+# seeds). Any crash, leak, undefined behaviour, hang (> 10 s) or allocation > 2 GB fails the stage.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${FUZZ_SECONDS:-4}"
+generator=()
+command -v ninja >/dev/null && generator=(-G Ninja)
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+cmake -S fuzz -B build/fuzz "${generator[@]}" "${launcher[@]}" -DCMAKE_CXX_COMPILER=clang++-14 \
+      -DCMAKE_C_COMPILER=clang-14 >/dev/null
+cmake --build build/fuzz -j"$(nproc)"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+/usr/bin/python3 fuzz/make_corpus.py "$work/corpus" --varsph build/release/bin/varsph
+export VARSPH_FUZZ_TMP="$work"
+mkdir -p "$work/artifacts"
+targets=(scene stl obj off ply poly2d checkpoint)
+passed=0
+for t in "${targets[@]}"; do
+  log="$work/$t.log"
+  opts=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -artifact_prefix="$work/artifacts/$t-")
+  # replay every regression and seed file once, then fuzz from the seeds for a few seconds
+  if ! build/fuzz/fuzz_"$t" "${opts[@]}" -runs=0 fuzz/regressions/"$t" "$work/corpus/$t" >"$log" 2>&1 ||
+     ! build/fuzz/fuzz_"$t" "${opts[@]}" -max_total_time="$seconds" -print_final_stats=1 \
+         "$work/corpus/$t" >>"$log" 2>&1; then
+    tail -n 60 "$log"
+    echo "fuzz-smoke: fuzz_$t FAILED (input in $work/artifacts, kept: see above)"
+    trap - EXIT
+    exit 1
+  fi
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
+  echo "fuzz-smoke: fuzz_$t ok (regressions + seeds replayed, $runs executions in ${seconds} s)"
+  passed=$((passed + 1))
+done
+echo "fuzz-smoke: $passed passed, 0 failed"
