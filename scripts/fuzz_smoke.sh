@@ -18,12 +18,13 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 /usr/bin/python3 fuzz/make_corpus.py "$work/corpus" --varsph build/release/bin/varsph
 export VARSPH_FUZZ_TMP="$work"
+export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp"  # HDF5's own leaks on damaged files
 mkdir -p "$work/artifacts"
 targets=(scene stl obj off ply poly2d checkpoint)
 passed=0
 for t in "${targets[@]}"; do
   log="$work/$t.log"
-  opts=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -artifact_prefix="$work/artifacts/$t-")
+  opts=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -max_len=65536 -artifact_prefix="$work/artifacts/$t-")
   # replay every regression and seed file once, then fuzz from the seeds for a few seconds
   if ! build/fuzz/fuzz_"$t" "${opts[@]}" -runs=0 fuzz/regressions/"$t" "$work/corpus/$t" >"$log" 2>&1 ||
      ! build/fuzz/fuzz_"$t" "${opts[@]}" -max_total_time="$seconds" -print_final_stats=1 \

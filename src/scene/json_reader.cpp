@@ -66,7 +66,8 @@ void JsonReader::fail(const std::string& path, const std::string& expected) cons
   throw InputError(file_ + ": key '" + path + "': expected " + expected);
 }
 void JsonReader::fail_got(const std::string& path, const std::string& expected, const json& got) const {
-  throw InputError(file_ + ": key '" + path + "': expected " + expected + ", got " + got.dump());
+  throw InputError(file_ + ": key '" + path + "': expected " + expected + ", got " +
+                   got.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
 double JsonReader::number(const std::string& path, std::optional<double> def, double lo, double hi,
@@ -274,6 +275,11 @@ void apply_override(json& root, const std::string& assignment, const std::string
     value = json::parse(text);
   } catch (const json::exception&) {
     value = text;  // not valid JSON (or a number out of range): taken as a string
+    try {
+      (void)value.dump();  // every later dump (messages, run.json, checkpoints) needs valid UTF-8
+    } catch (const json::exception&) {
+      throw InputError(file + ": --set " + key + ": VALUE is neither JSON nor valid UTF-8 text");
+    }
   }
   json* node = &root;
   std::stringstream ss(key);

@@ -27,7 +27,8 @@ namespace {
 using nlohmann::json;
 
 [[noreturn]] void bad(const std::string& where, const std::string& key, const std::string& expected, const json& got) {
-  throw InputError(where + "." + key + ": expected " + expected + ", got " + got.dump());
+  throw InputError(where + "." + key + ": expected " + expected + ", got " +
+                   got.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
 Eigen::Vector3d vec3(const json& j, const std::string& where, const std::string& key, int dim) {

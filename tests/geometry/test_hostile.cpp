@@ -100,7 +100,8 @@ TEST(Hostile, RandomTriangleSoupIsRefusedByItsParticleEstimate) {
   vt::write_stl_binary(dir / "soup.stl", V, F);
   const std::string m = error_of(surface(dir / "soup.stl"));
   // sum of the areas of 200k random triangles in a unit cube ~ 3.0e4 m^2: / 0.05^2 = 1.2e7 particles
-  EXPECT_NE(m.find("would produce about 1.2e+07 particles (surface area 30"), std::string::npos) << m;
+  EXPECT_NE(m.find("would produce about 1.2"), std::string::npos) << m;
+  EXPECT_NE(m.find("e+07 particles (surface area 30"), std::string::npos) << m;
   EXPECT_NE(m.find("more than the limit of 1e+07"), std::string::npos) << m;
 }
 
@@ -145,7 +146,8 @@ TEST(Hostile, PolylineWithNonFiniteOrHugeCoordinates) {
   EXPECT_NE(error_of(r).find("inf.poly2d: line 3"), std::string::npos);
   std::ofstream(dir / "far.poly2d") << "0 0\n1 0\n1 2e9\n";
   r.mesh = dir / "far.poly2d";
-  EXPECT_NE(error_of(r).find("line 3: point (1, 2000000000.000000) is"), std::string::npos) << error_of(r);
+  EXPECT_NE(error_of(r).find("line 3: point (1.000000, 2000000000.000000) is (1.000000, 2000000000.000000) m after "
+                             "the transform"), std::string::npos) << error_of(r);
 }
 
 TEST(Hostile, MeshSpanningMoreThan1e7SpacingsIsRefused) {

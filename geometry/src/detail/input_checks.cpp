@@ -203,7 +203,7 @@ void check_coordinates(const std::filesystem::path& path, const double* xyz, std
       const double c = xyz[3 * i + std::size_t(a)];
       if (std::isfinite(c) && (!bounded || std::abs(c) <= kMaxCoordinate)) continue;
       std::ostringstream m;
-      m.precision(17);
+      m.precision(10);
       m << "vertex " << i << " has coordinate " << "xyz"[a] << " = " << c << " " << stage << "; expected "
         << (std::isfinite(c) ? "|coordinate| <= 1e9 m (is the file in other units, or the transform wrong?)"
                              : "finite numbers (the exporter wrote NaN or infinity)");
