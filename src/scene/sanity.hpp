@@ -28,7 +28,8 @@ struct SanityLimits {
 };
 
 // Applies the rules to a parsed scene; throws InputError for a value that cannot be meant, returns the
-// warnings ("KEY = VALUE ...: why; what is usual") for unusual ones.
+// warnings ("KEY: why; what is usual") for unusual ones. parse_scene() calls it (so every scene that
+// parses has passed the error rules); `varsph info`, `run` and `sample` call it again for the warnings.
 std::vector<std::string> check_sanity(const Scene& s);
 
 }  // namespace varsph::scene

@@ -33,7 +33,6 @@ struct BodySpec {
 struct Scene {
   std::filesystem::path file;
   nlohmann::json resolved;  // every parameter with its value (defaults filled in)
-  std::vector<std::string> warnings;  // unusual but accepted values (scene/sanity.hpp), "KEY: why"
 
   std::string name;
   int dimension = 2;
@@ -42,7 +41,6 @@ struct Scene {
   std::string neighbor_search = "cell";  // "cell" (bounded grid) | "hash" (unbounded)
 
   double spacing = 0;  // particles.spacing dx [m]
-  double max_particles = 1e7;  // particles.max_count: bodies estimated to produce more are refused (exit 2)
   double min_boundary_distance = 0;  // fluid particles closer than this to a boundary particle are removed [m]
 
   kernels::KernelType kernel = kernels::KernelType::Gaussian;

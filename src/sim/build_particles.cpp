@@ -168,7 +168,7 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
       for (auto& q : b.points) pts.push_back(to_vec<D>(q));
     } else if (b.shape == "mesh") {
       // the geometry module checks its own estimate (area or volume / dx^d) against what is left
-      sample_mesh_body<D>(s, bi, s.max_particles - double(out.x.size()), pts, normals);
+      sample_mesh_body<D>(s, bi, max_particles(s) - double(out.x.size()), pts, normals);
     }
     if (pts.empty()) throw InputError(where + ": the body produced no particles (is it smaller than the spacing?)");
     check_particle_count(s, bi, double(out.x.size() + pts.size()));

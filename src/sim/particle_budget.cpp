@@ -16,11 +16,16 @@ std::string num(double x) {
 }
 
 [[noreturn]] void refuse(const scene::Scene& s, const std::string& what) {
-  throw InputError(s.file.string() + ": " + what + ", more than particles.max_count = " + num(s.max_particles) +
+  throw InputError(s.file.string() + ": " + what + ", more than particles.max_count = " + num(max_particles(s)) +
                    "; expected a coarser particles.spacing, smaller bodies, or a higher particles.max_count");
 }
 
 }  // namespace
+
+double max_particles(const scene::Scene& s) {
+  static const auto key = nlohmann::json::json_pointer("/particles/max_count");
+  return s.resolved.contains(key) && s.resolved.at(key).is_number() ? s.resolved.at(key).get<double>() : 1e7;
+}
 
 double estimate_body_particles(const scene::Scene& s, std::size_t index) {
   const scene::BodySpec& b = s.bodies[index];
@@ -51,14 +56,14 @@ void check_particle_budget(const scene::Scene& s) {
   for (std::size_t k = 0; k < s.bodies.size(); ++k) {
     const double n = estimate_body_particles(s, k);
     total += n;
-    if (!(total <= s.max_particles))
+    if (!(total <= max_particles(s)))
       refuse(s, "bodies." + std::to_string(k) + " (" + s.bodies[k].shape + ") would produce about " + num(n) +
                     " particles at dx = " + num(s.spacing) + " m, " + num(total) + " with the bodies before it");
   }
 }
 
 void check_particle_count(const scene::Scene& s, std::size_t index, double count) {
-  if (!(count <= s.max_particles))
+  if (!(count <= max_particles(s)))
     refuse(s, "the bodies up to bodies." + std::to_string(index) + " produced " + num(count) + " particles");
 }
 
