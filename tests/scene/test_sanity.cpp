@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/errors.hpp"
+#include "scene/sanity.hpp"
 #include "scene/scene.hpp"
 #include "sim/particle_budget.hpp"
 #include "test_support.hpp"
@@ -40,7 +41,7 @@ std::string error_of(const std::vector<std::string>& overrides) {
 }
 
 std::vector<std::string> warnings_of(const std::vector<std::string>& overrides) {
-  return scene::parse_scene_json(base_scene(), "s.json", overrides).warnings;
+  return scene::check_sanity(scene::parse_scene_json(base_scene(), "s.json", overrides));
 }
 
 bool has(const std::vector<std::string>& w, const std::string& text) {
@@ -128,7 +129,7 @@ TEST(Sanity, EveryShippedSceneParsesWithoutError) {
     for (const auto& e : fs::directory_iterator(test::source_dir() / sub)) {
       if (e.path().extension() != ".json") continue;
       const auto s = scene::parse_scene(e.path());
-      for (const auto& w : s.warnings) std::printf("[ warning  ] %s: %s\n", e.path().filename().c_str(), w.c_str());
+      for (const auto& w : scene::check_sanity(s)) std::printf("[ warning  ] %s: %s\n", e.path().filename().c_str(), w.c_str());
       ++n;
     }
   EXPECT_GT(n, 10);
