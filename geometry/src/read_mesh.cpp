@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -62,7 +63,8 @@ void canonical_order(Eigen::MatrixXd& V, Eigen::MatrixXi& F) {
 }  // namespace
 
 TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d& T,
-                       bool check_self_intersection, std::vector<std::string>& notes) {
+                       bool check_self_intersection, std::vector<std::string>& notes,
+                       const std::function<void(double)>& check_soup_area) {
   const std::string ext = lower_ext(path);
   if (ext != ".stl" && ext != ".obj" && ext != ".off" && ext != ".ply")
     throw GeometryError(path, "unsupported mesh file extension '" + path.extension().string() +
@@ -111,6 +113,15 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
     p = Point(q.x(), q.y(), q.z());
   }
   check(true, "after the transform");
+  if (check_soup_area) {  // the raw soup's area (polygons fanned into triangles), before the repairs
+    double area = 0;
+    for (const auto& poly : polys)
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+        if (poly[0] >= pts.size() || poly[k] >= pts.size() || poly[k + 1] >= pts.size()) continue;
+        area += std::sqrt(CGAL::squared_area(pts[poly[0]], pts[poly[k]], pts[poly[k + 1]]));
+      }
+    check_soup_area(area);
+  }
   // merge exactly duplicated vertices
   std::map<Point, std::size_t> unique;
   std::vector<Point> upts;

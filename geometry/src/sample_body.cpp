@@ -137,7 +137,10 @@ SampledBody sample_body(const BodyRequest& r) {
     throw GeometryError(r.mesh, "a .poly2d polyline file describes a 2D body; expected a 3D mesh (.stl, .obj, .off, .ply) for dimension 3");
 
   if (dim == 3) {
-    TriangleMesh m = read_mesh(r.mesh, r.transform, volume, out.notes);
+    // a surface fill's estimate is checked on the raw soup already: 200k random triangles are refused
+    // before the O(#F log #F) repairs
+    const auto early = [&](double soup_area) { if (!volume) check_estimate(r, soup_area, 0, 0); };
+    TriangleMesh m = read_mesh(r.mesh, r.transform, volume, out.notes, early);
     out.surface_measure = m.area;
     out.enclosed_measure = m.volume;
     Eigen::VectorXd lo = m.V.colwise().minCoeff().transpose(), hi = m.V.colwise().maxCoeff().transpose();

@@ -47,9 +47,14 @@ TEST(Hostile, AsciiStlWithNanVertex) {
   tetrahedron(1.0, V, F);
   V(1, 0) = std::nan("");
   vt::write_stl_ascii(dir / "nan.stl", V, F);
+  // CGAL's ASCII reader stops at "nan": the partial soup it returns is no longer used (it was, and hung)
   const std::string m = error_of(surface(dir / "nan.stl"));
-  EXPECT_NE(m.find("nan.stl: vertex"), std::string::npos) << m;
-  EXPECT_NE(m.find("= nan in the file; expected finite numbers"), std::string::npos) << m;
+  EXPECT_NE(m.find("nan.stl: cannot parse mesh file as stl"), std::string::npos) << m;
+  // a binary STL stores the NaN as float bits, read as they are: the coordinate check names the vertex
+  vt::write_stl_binary(dir / "nan_binary.stl", V, F);
+  const std::string b = error_of(surface(dir / "nan_binary.stl"));
+  EXPECT_NE(b.find("nan_binary.stl: vertex"), std::string::npos) << b;
+  EXPECT_NE(b.find("= nan in the file; expected finite numbers"), std::string::npos) << b;
 }
 
 TEST(Hostile, RandomBytesNamedStl) {
