@@ -80,7 +80,8 @@ Eigen::Matrix4d transform_of(const json& t, const std::string& where, int dim) {
 
 template <int D>
 void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_particles,
-                      std::vector<Vec<D>>& positions, std::vector<Vec<D>>& normals) {
+                      std::vector<Vec<D>>& positions, std::vector<Vec<D>>& normals,
+                      std::vector<Real>* interface_distance) {
   const scene::BodySpec& b = s.bodies[index];
   const std::string where = s.file.string() + ": bodies." + std::to_string(index);
   const json& m = b.mesh;
@@ -135,6 +136,8 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_parti
     if (out.normals.rows() == out.positions.rows()) {
       for (int a = 0; a < D; ++a) n[a] = Real(sign * out.normals(k, a));
       normals.push_back(n);
+      // layer 0 sits on the mesh surface, half a spacing from the fluid (docs/geometry.md)
+      if (interface_distance) interface_distance->push_back(Real((double(out.layer[k]) + 0.5) * s.spacing));
     }
   }
 }
@@ -142,7 +145,8 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_parti
 #else
 
 template <int D>
-void sample_mesh_body(const scene::Scene& s, std::size_t index, double, std::vector<Vec<D>>&, std::vector<Vec<D>>&) {
+void sample_mesh_body(const scene::Scene& s, std::size_t index, double, std::vector<Vec<D>>&,
+                      std::vector<Vec<D>>&, std::vector<Real>*) {
   throw InputError(s.file.string() + ": bodies." + std::to_string(index) +
                    ": mesh bodies need the geometry module, which this build does not include "
                    "(configure with -DVARSPH_BUILD_GEOMETRY=ON)");
@@ -150,7 +154,9 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double, std::vec
 
 #endif
 
-template void sample_mesh_body<2>(const scene::Scene&, std::size_t, double, std::vector<Vec<2>>&, std::vector<Vec<2>>&);
-template void sample_mesh_body<3>(const scene::Scene&, std::size_t, double, std::vector<Vec<3>>&, std::vector<Vec<3>>&);
+template void sample_mesh_body<2>(const scene::Scene&, std::size_t, double, std::vector<Vec<2>>&,
+                                  std::vector<Vec<2>>&, std::vector<Real>*);
+template void sample_mesh_body<3>(const scene::Scene&, std::size_t, double, std::vector<Vec<3>>&,
+                                  std::vector<Vec<3>>&, std::vector<Real>*);
 
 }  // namespace varsph
