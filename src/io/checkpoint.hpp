@@ -16,8 +16,8 @@
 
 namespace varsph::io {
 
-// Bumped whenever the layout changes; a file with a newer version is refused. 2: HDF5 1.10 format and
-// the root attribute content_digest (format 1 files, without it, are still read).
+// Bumped whenever the layout changes; a file with a newer version is refused. 2: the root attribute
+// content_digest (format 1 files, without it, are still read).
 constexpr int kCheckpointFormatVersion = 2;
 
 struct CheckpointHeader {

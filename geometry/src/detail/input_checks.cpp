@@ -38,6 +38,19 @@ void check_stl(const std::filesystem::path& path, std::uintmax_t size) {
     throw GeometryError(path, "binary STL header declares " + std::to_string(n) + " triangles (" +
                               std::to_string(need) + " bytes) but the file has " + std::to_string(size) +
                               " bytes; expected a complete binary STL (truncated or not an STL file?)");
+  // the raw float vertices: CGAL's binary reader merges equal points in an ordered map, where a NaN
+  // compares equal to anything and silently becomes another vertex (Hostile.AsciiStlWithNanVertex)
+  char rec[50];
+  for (std::uint32_t t = 0; t < n && in.read(rec, sizeof rec); ++t)
+    for (int k = 0; k < 9; ++k) {
+      float c;
+      std::memcpy(&c, rec + 12 + 4 * k, 4);
+      if (std::isfinite(c)) continue;
+      std::ostringstream m;
+      m << "vertex " << 3 * std::uintmax_t(t) + std::uintmax_t(k / 3) << " (triangle " << t << ") has coordinate "
+        << "xyz"[k % 3] << " = " << c << " in the file; expected finite numbers (the exporter wrote NaN or infinity)";
+      throw GeometryError(path, m.str());
+    }
 }
 
 // OFF: "[ST][C][N][4][n]OFF [dim] nv nf ne" (ASCII). Each vertex line takes at least 6 bytes
