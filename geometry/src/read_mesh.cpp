@@ -83,6 +83,10 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
 
   // counts the header declares must fit the file before a reader allocates from them
   detail::check_declared_counts(path, ext);
+  if (check_soup_area && ext == ".stl") {  // binary STL: the estimate straight from the file, before CGAL
+    const double A[9] = {T(0, 0), T(0, 1), T(0, 2), T(1, 0), T(1, 1), T(1, 2), T(2, 0), T(2, 1), T(2, 2)};
+    if (const double area = detail::binary_stl_area(path, A); area >= 0 && std::isfinite(area)) check_soup_area(area);
+  }
 
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;

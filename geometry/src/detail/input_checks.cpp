@@ -209,6 +209,31 @@ void check_declared_counts(const std::filesystem::path& path, const std::string&
   else if (ext == ".ply") check_ply(path, size);
 }
 
+double binary_stl_area(const std::filesystem::path& path, const double A[9]) {
+  std::ifstream in(path, std::ios::binary);
+  char head[84] = {};
+  in.read(head, sizeof head);
+  if (in.gcount() < 84 || std::strncmp(head, "solid", 5) == 0) return -1;
+  std::uint32_t n = 0;
+  std::memcpy(&n, head + 80, 4);
+  double area = 0;
+  char rec[50];
+  for (std::uint32_t t = 0; t < n && in.read(rec, sizeof rec); ++t) {
+    double p[3][3];
+    for (int v = 0; v < 3; ++v) {
+      float x[3];
+      std::memcpy(x, rec + 12 + 12 * v, 12);
+      for (int a = 0; a < 3; ++a) p[v][a] = A[3 * a] * x[0] + A[3 * a + 1] * x[1] + A[3 * a + 2] * x[2];
+    }
+    double e1[3], e2[3];
+    for (int a = 0; a < 3; ++a) { e1[a] = p[1][a] - p[0][a]; e2[a] = p[2][a] - p[0][a]; }
+    const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                 cz = e1[0] * e2[1] - e1[1] * e2[0];
+    area += 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+  }
+  return area;
+}
+
 void check_coordinates(const std::filesystem::path& path, const double* xyz, std::size_t n, bool bounded,
                        const char* stage) {
   for (std::size_t i = 0; i < n; ++i)
