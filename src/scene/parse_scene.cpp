@@ -4,6 +4,7 @@
 
 #include "core/errors.hpp"
 #include "scene/json_reader.hpp"
+#include "scene/parse_health.hpp"
 #include "scene/sanity.hpp"
 #include "scene/scene.hpp"
 
@@ -321,7 +322,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
                             "simulated seconds between probes.csv rows (0 = every step)");
   s.probes = r.subtree("probes", json::array());
   if (!s.probes.is_array()) r.fail_got("probes", "a list of probes", s.probes);
-  s.max_density_error = r.number("health.max_density_error", 0.5, 1e-6, 100, "largest |rho/rho0 - 1|");
+  s.health = parse_health(r);
   s.log_every_steps = int(r.integer("log.every_steps", 0, 0, 1000000000));
 
   r.check_unknown();
