@@ -5,6 +5,7 @@
 #include "core/errors.hpp"
 #include "scene/json_reader.hpp"
 #include "scene/parse_health.hpp"
+#include "scene/sanity.hpp"
 #include "scene/scene.hpp"
 
 namespace varsph::scene {
@@ -114,6 +115,8 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.neighbor_search = r.choice("domain.neighbor_search", "cell", {"cell", "hash"});
 
   s.spacing = r.positive("particles.spacing", std::nullopt, "particle spacing dx [m]");
+  // read by sim/particle_budget.cpp from the resolved scene
+  r.number("particles.max_count", 1e7, 1, 1e12, "largest number of particles the bodies may produce (estimated before sampling)");
   s.min_boundary_distance =
       s.spacing * r.number("particles.min_boundary_distance", 0.5, 0, 10, "fluid-boundary clearance in units of dx");
 
@@ -324,6 +327,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
 
   r.check_unknown();
   s.resolved = r.resolved();
+  (void)check_sanity(s);  // errors stop here; the commands ask again for the warnings
   return s;
 }
 

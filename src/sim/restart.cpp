@@ -38,7 +38,7 @@ std::size_t checkpoint_boundary_count(const io::Checkpoint& c, std::size_t parti
 }  // namespace
 
 bool restart_may_change(const std::string& k) {
-  return k == "time.end" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
+  return k == "time.end" || k == "particles.max_count" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
          starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
          starts_with(k, "log.");
 }
@@ -84,7 +84,7 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
     const std::string was = h.scene.contains(ptr) ? h.scene.at(ptr).dump() : "(absent)";
     const std::string now = sim.scene().resolved.contains(ptr) ? sim.scene().resolved.at(ptr).dump() : "(absent)";
     throw InputError(where + "the scene's physics differs from the checkpoint's at key '" + k + "' (checkpoint: " +
-                     was + ", scene: " + now + "); only time.end, output.*, checkpoint.*, probes and log.* may "
+                     was + ", scene: " + now + "); only time.end, output.*, checkpoint.*, probes, log.* and particles.max_count may "
                      "change on restart");
   }
   // a checkpoint written after fluid particles were removed (health.*) holds fewer fluid particles than
