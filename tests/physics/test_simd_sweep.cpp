@@ -212,7 +212,7 @@ TEST(SimdSweep, DamBreak3DDynamicWalls) {
   REQUIRE_VECTOR_ISA();
   setenv("VARSPH_SIMD", "scalar", 1);
   Simulation<3> sim(scene::parse_scene(test::source_dir() / "pipelines" / "bench_box_3d.json",
-                                       {"particles.spacing=0.04", "integrator.dt=1e-4"}));
+                                       {"particles.spacing=0.04"}));
   unsetenv("VARSPH_SIMD");
   for (int k = 0; k < 20; ++k) sim.advance();
   expect_vector_matches_scalar(sim, "3D dam break, dynamic walls + AV");
@@ -245,6 +245,8 @@ TEST(SimdSweep, UncoveredTermsFallBackToTheScalarSweep) {
     const auto scalar = rates_with(sim, "scalar");
     const auto vec = rates_with(sim, simd::to_string(vector_isa()));
     for (Which w : {Which::Fused, Which::Density, Which::Acceleration}) {
+      // laminar viscosity leaves the continuity pass covered (it has no viscosity term): that one is vectorised
+      if (w == Which::Density && sets[0].find("laminar") != std::string::npos) continue;
       const auto s = evaluate(*scalar, sim, w), v = evaluate(*vec, sim, w);
       EXPECT_EQ(0, std::memcmp(s.drho.data(), v.drho.data(), s.drho.size() * sizeof(Real))) << sets[0];
       EXPECT_EQ(0, std::memcmp(s.a.data(), v.a.data(), s.a.size() * sizeof(Vec<2>))) << sets[0];
