@@ -39,7 +39,7 @@ template <int D>
 class StateSnapshot {
  public:
   void capture(Simulation<D>& sim, const nlohmann::json& runner_state);
-  // Puts the captured state back into the simulation (same particle count, same fields).
+  // Puts the captured state back into the simulation (same fields; particles removed since come back).
   void restore(Simulation<D>& sim) const;
   // restore(), the neighbour grid rebuilt as a restart from a checkpoint does, then sim.advance() until
   // sim.step() == step (>= the captured step). Returns the number of steps replayed.
@@ -53,6 +53,7 @@ class StateSnapshot {
   std::vector<std::vector<std::byte>> buffers_;
   double time_ = 0, dt_ = 0;
   long step_ = 0;
+  std::size_t particles_ = 0;
   nlohmann::json integrator_state_, runner_state_;
   bool valid_ = false;
 };
