@@ -212,7 +212,8 @@ TEST(SimdSweep, DamBreak3DDynamicWalls) {
   REQUIRE_VECTOR_ISA();
   setenv("VARSPH_SIMD", "scalar", 1);
   Simulation<3> sim(scene::parse_scene(test::source_dir() / "pipelines" / "bench_box_3d.json",
-                                       {"particles.spacing=0.04"}));
+                                       {"particles.spacing=0.04", "domain.min=[-0.15, -0.15, -0.15]",
+                                        "domain.max=[1.15, 0.55, 0.8]"}));  // 3 wall layers of 0.04
   unsetenv("VARSPH_SIMD");
   for (int k = 0; k < 20; ++k) sim.advance();
   expect_vector_matches_scalar(sim, "3D dam break, dynamic walls + AV");
