@@ -9,24 +9,10 @@
 #include "physics/pair_loop.hpp"
 #include "physics/passes.hpp"
 #include "physics/repulsive_wall.hpp"
+#include "integrators/variational_passes.hpp"
 
 namespace varsph {
 namespace {
-
-// The repulsive boundary force alone, seed eq. (58) (x/r^2 form, see repulsive_wall.hpp), on fluid
-// particles from boundary particles, at the configuration of the view (q_k).
-template <int D>
-struct WallOnlyPass {
-  const physics::RepulsiveWall& wall;
-  const physics::ParticleView<D>& s;
-  Vec<D>* out;
-  bool active(std::size_t i) const { return s.kind[i] == physics::kFluid; }
-  Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
-  void pair(Vec<D>& acc, std::size_t, std::size_t j, const Vec<D>& xij, Real r2) const {
-    if (s.kind[j] != physics::kFluid) acc += wall.factor(r2) * xij;  // eq. (58)
-  }
-  void end(std::size_t i, const Vec<D>& acc) const { out[i] = acc; }
-};
 
 template <int D>
 physics::PhysicsParams<D> without_wall(physics::PhysicsParams<D> p) {

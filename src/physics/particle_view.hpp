@@ -20,7 +20,7 @@ struct ParticleView {
   // Velocities boundary particles show to viscosity (dummy/Adami walls: 2 v_wall - v_extrapolated);
   // empty = use v (walls at their prescribed velocity).
   std::span<const Vec<D>> wall_v = {};
-  std::size_t size() const { return x.size(); }
+  VARSPH_HD std::size_t size() const { return x.size(); }
 };
 
 }  // namespace varsph::physics
