@@ -5,7 +5,9 @@
 namespace varsph {
 
 int command_run(const CommandArgs& a) {
-  const scene::Scene s = scene::parse_scene(a.scene, a.overrides);
+  std::vector<std::string> overrides = a.overrides;
+  if (!a.device.empty()) overrides.push_back("execution.device=\"" + a.device + "\"");  // validated with the scene
+  const scene::Scene s = scene::parse_scene(a.scene, overrides);
   RunOptions o;
   if (!a.output.empty()) o.output_dir = a.output;
   else if (!a.restart.empty())  // DIR/checkpoints/step_N.h5 -> DIR: continue in the run's own directory

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "core/errors.hpp"
+#include "exec/device_backend.hpp"
 
 namespace varsph {
 namespace {
@@ -26,7 +27,7 @@ bool starts_with(const std::string& s, const std::string& p) { return s.compare(
 bool restart_may_change(const std::string& k) {
   return k == "time.end" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
          starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
-         starts_with(k, "log.");
+         starts_with(k, "log.") || k == "execution" || starts_with(k, "execution.");  // cpu <-> cuda restarts
 }
 
 std::string first_physics_difference(const nlohmann::json& a, const nlohmann::json& b) {
@@ -99,6 +100,7 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
   sim.sort_and_bin();
   sim.set_dt(h.dt);
   sim.integrator().restore_state(h.integrator_state);
+  sim.host_state_changed();  // a device run continues from the restored store
 }
 
 template <int D>
@@ -122,8 +124,12 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
 template <int D>
 void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_state) {
   const auto& fields = sim.store().fields();
-  buffers_.resize(fields.size());
-  for (std::size_t k = 0; k < fields.size(); ++k) {
+  buffers_.resize(sim.on_device() ? 0 : fields.size());
+  if (sim.on_device()) {  // a device run keeps its copy on the device (no transfer per step)
+    sim.device()->snapshot_capture();
+    device_bytes_ = sim.device()->snapshot_bytes();
+  }
+  for (std::size_t k = 0; k < buffers_.size(); ++k) {
     const auto& f = fields[k];
     if (!f->flags().checkpointed) continue;
     const std::size_t n = f->bytes_per_particle() * f->size();
@@ -140,6 +146,7 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
 
 template <int D>
 void StateSnapshot<D>::restore(Simulation<D>& sim) const {
+  if (sim.on_device()) sim.device()->snapshot_restore();
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
@@ -153,7 +160,7 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
 
 template <int D>
 std::size_t StateSnapshot<D>::bytes() const {
-  std::size_t b = 0;
+  std::size_t b = device_bytes_;
   for (const auto& v : buffers_) b += v.size();
   return b;
 }
