@@ -313,7 +313,10 @@ class Backend final : public DeviceBackend<D> {
     View s{std::span<const Vec<D>>(vec(ix), n_), std::span<const Vec<D>>(vec(iv), n_),
            std::span<const Real>(real(irho), n_), std::span<const Real>(real(ip), n_),
            std::span<const Real>(real(imass_), n_), std::span<const std::int32_t>(kind(), n_)};
-    if (with_wall_v && iwall_v_ >= 0) s.wall_v = std::span<const Vec<D>>(vec(iwall_v_), n_);
+    if (with_wall_v && iwall_v_ >= 0) {  // Simulation::current_view: extrapolated walls show v_w and normals
+      s.wall_v = std::span<const Vec<D>>(vec(iwall_v_), n_);
+      if (inormal_ >= 0) s.normal = std::span<const Vec<D>>(vec(inormal_), n_);
+    }
     return s;
   }
   View current_view() const { return view(ix_, iv_, irho_, ip_, true); }
@@ -376,7 +379,8 @@ class Backend final : public DeviceBackend<D> {
                                                  b.template diffusion<Diff>(), V, pr});
   }
 
-  // one instantiation per term combination, chosen once (RatesImpl's pick_*; soft walls are refused)
+  // one instantiation per term combination, chosen once (RatesImpl's pick_*; soft walls, mDBC and the
+  // Riemann dissipation are refused at start)
   template <class Visc>
   void pick_for_viscosity() {
     switch (s_.params.boundary) {
@@ -389,11 +393,13 @@ class Backend final : public DeviceBackend<D> {
         fused_for_diffusion<Visc, BM::Dynamic, BM::DummyAdami>();
         return;
       case BM::DummyAdami:
-      case BM::SoftRepulsive:
         acc_fn_ = &run_acc<Visc, BM::DummyAdami>;
         fused_for_diffusion<Visc, BM::DummyAdami, BM::DummyAdami>();
         return;
+      case BM::SoftRepulsive:
+      case BM::Mdbc: break;  // refused at start (check_device_scene)
     }
+    throw std::logic_error("device backend: a wall model check_device_scene refuses reached the backend");
   }
   template <class Visc, BM MD, BM MA>
   void fused_for_diffusion() {
@@ -416,6 +422,7 @@ class Backend final : public DeviceBackend<D> {
   }
   void pick_passes() {
     const auto& p = s_.params;
+    if (p.riemann) throw std::logic_error("device backend: physics.riemann is refused at start (check_device_scene)");
     if (p.artificial_viscosity && p.laminar_viscosity) pick_for_viscosity<physics::ArtificialAndLaminarViscosity>();
     else if (p.artificial_viscosity) pick_for_viscosity<physics::ArtificialViscosity>();
     else if (p.laminar_viscosity) pick_for_viscosity<physics::LaminarViscosity>();
@@ -423,8 +430,9 @@ class Backend final : public DeviceBackend<D> {
     switch (p.boundary) {
       case BM::Repulsive: density_for_wall<BM::Repulsive>(); break;
       case BM::Dynamic: density_for_wall<BM::Dynamic>(); break;
-      case BM::DummyAdami:
-      case BM::SoftRepulsive: density_for_wall<BM::DummyAdami>(); break;
+      case BM::DummyAdami: density_for_wall<BM::DummyAdami>(); break;
+      case BM::SoftRepulsive:
+      case BM::Mdbc: break;  // refused at start, and by pick_for_viscosity above
     }
     adami_ = p.boundary == BM::DummyAdami;
     dynamic_walls_ = p.boundary == BM::Dynamic;
@@ -437,7 +445,9 @@ class Backend final : public DeviceBackend<D> {
     if (adami_) {  // dummy walls (Adami 2012): boundary pressure, density and viscous velocity from the fluid
       const View s = current_view();
       const bool free_slip = s_.params.wall_slip == physics::WallSlip::FreeSlip;
-      pairs(s, AdamiWallMaker<D>{W_, s, inormal_ >= 0 ? vec(inormal_) : nullptr, host_.body_acceleration(), s_.eos,
+      physics::WallGeometry<D> geo;
+      geo.normal = inormal_ >= 0 ? vec(inormal_) : nullptr;
+      pairs(s, AdamiWallMaker<D>{W_, s, geo, host_.body_acceleration(), s_.eos,
                                  free_slip, real(ip_), real(irho_), vec(iwall_v_)});
     }
   }

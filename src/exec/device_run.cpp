@@ -107,12 +107,12 @@ DeviceSetup<D> setup_of(Simulation<D>& sim) {
   s.table_intervals = tv.intervals_;
   s.support = table.support();
   s.grid = grid_view_of(sim.grid());
-  const bool free_slip_walls = s.params.boundary == physics::BoundaryModel::DummyAdami &&
-                               s.params.wall_slip == physics::WallSlip::FreeSlip;
+  // dummy walls read normals: free-slip extrapolation, and artificial viscosity's free-slip mirror
+  const bool extrapolated_walls = s.params.boundary == physics::BoundaryModel::DummyAdami;
   for (const auto& f : sim.store().fields()) {
     s.fields.push_back(f.get());
     // read by no device loop: reordered on the host at download through the particles' origin index
-    const bool host_only = f->name() == "id" || f->name() == "body" || (f->name() == "normal" && !free_slip_walls);
+    const bool host_only = f->name() == "id" || f->name() == "body" || (f->name() == "normal" && !extrapolated_walls);
     s.host_only.push_back(host_only);
   }
   for (const auto* f : sim.position_like()) s.position_like.push_back(f->name());
@@ -178,6 +178,8 @@ void check_device_scene(const scene::Scene& s) {
   if (!s.kernel_tabulated) refuse(s, "kernel.tabulated", "the exact (untabulated) kernel evaluation");
   if (s.neighbor_search != "cell") refuse(s, "domain.neighbor_search", "the hash grid (\"" + s.neighbor_search + "\")");
   if (s.boundary_model == "soft_repulsive") refuse(s, "boundary.model", "the soft repulsive wall (Chalk 2020)");
+  if (s.boundary_model == "mdbc") refuse(s, "boundary.model", "the mDBC wall (English 2022)");
+  if (s.riemann) refuse(s, "physics.riemann", "the Riemann-solver dissipation (Zhang, Hu & Adams 2017)");
   if (s.xsph_eps > 0) refuse(s, "physics.xsph", "XSPH");
   if (s.damping) refuse(s, "physics.damping", "viscous damping");
   if (s.tensile != "none") refuse(s, "physics.tensile_instability", "artificial stress");

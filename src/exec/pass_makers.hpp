@@ -87,7 +87,7 @@ template <int D>
 struct AdamiWallMaker {
   DeviceKernel<D> W;
   physics::ParticleView<D> s;
-  const Vec<D>* normal;
+  physics::WallGeometry<D> geo;  // normals (a_w: none, moving walls are refused on the device)
   Vec<D> g;
   physics::TaitEos eos;
   bool free_slip;
@@ -96,7 +96,7 @@ struct AdamiWallMaker {
   Vec<D>* wall_v;
   template <class F>
   VARSPH_HD void with(F&& f) const {
-    const physics::AdamiWallPass<D, DeviceKernel<D>> pass{W, s, normal, g, eos, free_slip, p, rho, wall_v};
+    const physics::AdamiWallPass<D, DeviceKernel<D>> pass{W, s, geo, g, eos, free_slip, p, rho, wall_v};
     f(pass);
   }
 };

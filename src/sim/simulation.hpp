@@ -101,6 +101,8 @@ class Simulation {
   // View of the current state (positions, velocities, densities, pressures).
   physics::ParticleView<D> current_view() const;
   void update_pressure();                  // p = EOS(rho) for every particle
+  // What extrapolated wall models read about boundary particles (normals, interface distance, a_w).
+  physics::WallGeometry<D> wall_geometry() const;
   void update_density_after_move(Real dt);  // continuity (rho += dt drho) or summation, then pressure
   // XSPH (physics.xsph): whether named, and the correction of the current state into the registered
   // field `xsph_velocity` (integrators drift with x += dt (v + correction)).
@@ -148,7 +150,9 @@ class Simulation {
   std::unique_ptr<exec::DeviceRun<D>> device_;  // execution.device != "cpu"
   std::unique_ptr<BoundaryMotion<D>> motion_;  // prescribed motion of boundary bodies (inactive if none)
   std::vector<Field<Vec<D>>*> position_like_;
-  Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls: velocity boundary particles show to viscosity
+  Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls / mDBC: velocity boundary particles show to viscosity
+  Field<Real>* wall_distance_ = nullptr;    // mDBC: distance to the fluid-wall interface [m]
+  Field<Vec<D>>* wall_acc_ = nullptr;       // extrapolated walls with prescribed motion: a_w [m/s^2]
   Field<Vec<D>>* xsph_ = nullptr;    // XSPH correction
   std::vector<std::uint32_t> perm_;
   std::vector<Real> rho_scratch_;  // Shepard re-initialisation output (sized once)
