@@ -409,7 +409,9 @@ class Backend final : public DeviceBackend<D> {
       case physics::DensityDiffusion::Fourtakas:
         fused_fn_ = &run_fused<Visc, MD, MA, physics::FourtakasDiffusion<D>>;
         return;
+      case physics::DensityDiffusion::Antuono: break;  // refused at start (check_device_scene)
     }
+    throw std::logic_error("device backend: density diffusion \"antuono\" is refused at start (check_device_scene)");
   }
   template <BM M>
   void density_for_wall() {
@@ -418,6 +420,7 @@ class Backend final : public DeviceBackend<D> {
       case physics::DensityDiffusion::None: drho_fn_ = &run_drho<M, physics::NoDensityDiffusion>; break;
       case physics::DensityDiffusion::Molteni: drho_fn_ = &run_drho<M, physics::MolteniDiffusion>; break;
       case physics::DensityDiffusion::Fourtakas: drho_fn_ = &run_drho<M, physics::FourtakasDiffusion<D>>; break;
+      case physics::DensityDiffusion::Antuono: break;  // refused at start; pick_for_viscosity has thrown
     }
   }
   void pick_passes() {

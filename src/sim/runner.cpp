@@ -238,7 +238,7 @@ class Runner {
       if (in_own_directory()) {
         keep_up_to = sim.time();
         pvd_->load();
-        pvd_->truncate_after(keep_up_to + 1e-12);
+        pvd_->truncate_after(keep_up_to + io::kFrameTimeDrift);  // .pvd times are rounded (pvd_series.hpp)
         pvd_->write();
         drop_later_files(sim.step());
       }
@@ -427,7 +427,7 @@ class Runner {
     fd.time = time;
     fd.step = step;
     io::write_vtu(dir_.frame(index).string(), fd);
-    pvd_->add(time, dir_.frame_relative(index));
+    pvd_->add(io::frame_time_label(time, scene_.output_every), dir_.frame_relative(index));  // the deferred frame's time
     last_frame_name_ = dir_.frame_relative(index);
     last_frame_at_current_ = true;
     last_frame_step_ = step;

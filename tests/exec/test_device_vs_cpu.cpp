@@ -366,6 +366,8 @@ TEST(DeviceVsCpu, UnsupportedTermsAreRefusedNamingTheKey) {
       {"domain.neighbor_search", [](nlohmann::json& j) { j["domain"]["neighbor_search"] = "hash"; }},
       {"physics.shepard_reinit", [](nlohmann::json& j) { j["physics"]["shepard_reinit"] = {{"every", 10}}; }},
       {"boundary.model", [](nlohmann::json& j) { j["boundary"] = {{"model", "mdbc"}}; }},
+      {"physics.density_diffusion.type",
+       [](nlohmann::json& j) { j["physics"]["density_diffusion"] = {{"type", "antuono"}, {"delta", 0.1}}; }},
       {"physics.riemann",
        [](nlohmann::json& j) {
          j["physics"].erase("artificial_viscosity");
