@@ -1,4 +1,7 @@
+#include <cstdio>
+
 #include "app/commands.hpp"
+#include "scene/sanity.hpp"
 #include "scene/scene.hpp"
 #include "sim/runner.hpp"
 
@@ -8,6 +11,7 @@ int command_run(const CommandArgs& a) {
   std::vector<std::string> overrides = a.overrides;
   if (!a.device.empty()) overrides.push_back("execution.device=\"" + a.device + "\"");  // validated with the scene
   const scene::Scene s = scene::parse_scene(a.scene, overrides);
+  for (const auto& w : scene::check_sanity(s)) std::fprintf(stderr, "varsph: warning: %s: %s\n", s.file.string().c_str(), w.c_str());
   RunOptions o;
   if (!a.output.empty()) o.output_dir = a.output;
   else if (!a.restart.empty())  // DIR/checkpoints/step_N.h5 -> DIR: continue in the run's own directory

@@ -539,7 +539,7 @@ class Backend final : public DeviceBackend<D> {
   void compute_gamma() {
     if (!s_.variational_wall) return;
     const View s = current_view();
-    pairs(s, WallOnlyMaker<D>{wall_, s, vec(igamma_)});  // Gamma_k, eq. (58)
+    pairs(s, WallOnlyMaker<D>{wall_, s, vec(igamma_), s_.support});  // Gamma_k, eq. (58)
   }
   void rebuild_previous(double dt_old, double dt_new) {
     const double alpha = s_.alpha;

@@ -100,8 +100,8 @@ DeviceSetup<D> setup_of(Simulation<D>& sim) {
   s.params = sim.params();
   s.eos = sim.eos();
   const kernels::Tabulated<D> table(s.params.kernel, s.params.h, s.params.kernel_l);  // RatesImpl's table
-  s.table_w = table.w_table();
-  s.table_f = table.f_table();
+  s.table_w = table.w_values();
+  s.table_f = table.f_values();
   const auto tv = table.view(nullptr, nullptr);
   s.table_scale = tv.scale_;
   s.table_intervals = tv.intervals_;

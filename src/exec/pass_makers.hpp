@@ -107,9 +107,10 @@ struct WallOnlyMaker {
   physics::RepulsiveWall wall;
   physics::ParticleView<D> s;
   Vec<D>* out;
+  Real support;
   template <class F>
   VARSPH_HD void with(F&& f) const {
-    const WallOnlyPass<D> pass{wall, s, out};
+    const WallOnlyPass<D> pass{wall, s, out, support};
     f(pass);
   }
 };

@@ -14,6 +14,7 @@ struct WallOnlyPass {
   const physics::RepulsiveWall& wall;
   const physics::ParticleView<D>& s;
   Vec<D>* out;
+  Real support;  // read by the vectorised sweep's candidate test (physics/simd/)
   VARSPH_HD bool active(std::size_t i) const { return s.kind[i] == physics::kFluid; }
   VARSPH_HD Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
   VARSPH_HD void pair(Vec<D>& acc, std::size_t, std::size_t j, const Vec<D>& xij, Real r2) const {

@@ -16,8 +16,9 @@
 
 namespace varsph::io {
 
-// Bumped whenever the layout changes; a file with a newer version is refused.
-constexpr int kCheckpointFormatVersion = 1;
+// Bumped whenever the layout changes; a file with a newer version is refused. 2: the root attribute
+// content_digest (format 1 files, without it, are still read).
+constexpr int kCheckpointFormatVersion = 2;
 
 struct CheckpointHeader {
   int format_version = kCheckpointFormatVersion;

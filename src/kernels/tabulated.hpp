@@ -60,9 +60,12 @@ class Tabulated {
   Real w_r2(Real r2) const { return table_lerp(w_.data(), scale_, r2, kIntervals); }
   Real grad_factor_r2(Real r2) const { return table_lerp(f_.data(), scale_, r2, kIntervals); }
   // The tables (kIntervals + 2 nodes each) and a view of them at other addresses (a device copy).
-  const std::vector<Real>& w_table() const { return w_; }
-  const std::vector<Real>& f_table() const { return f_; }
+  const std::vector<Real>& w_values() const { return w_; }
+  const std::vector<Real>& f_values() const { return f_; }
   TableView<D> view(const Real* w, const Real* f) const { return {support_, h_, scale_, w, f, kIntervals}; }
+  // the F table and its scale, for the vectorised sweep (physics/simd/), which interpolates the same way
+  const Real* f_table() const { return f_.data(); }
+  Real table_scale() const { return scale_; }
 
  private:
   Real support_, h_, scale_;

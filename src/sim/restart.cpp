@@ -22,10 +22,24 @@ void flatten(const nlohmann::json& j, const std::string& prefix, std::map<std::s
 
 bool starts_with(const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; }
 
+// Boundary particles (kind != 0) in a checkpoint's `kind` array; InputError when it is missing or malformed.
+std::size_t checkpoint_boundary_count(const io::Checkpoint& c, std::size_t particles, const std::string& where) {
+  const io::CheckpointArray* k = c.find("kind");
+  if (!k || k->type != ScalarType::Int32 || k->components != 1 || k->bytes.size() != particles * sizeof(std::int32_t))
+    throw InputError(where + "particle field 'kind' is missing or has another type or shape");
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < particles; ++i) {
+    std::int32_t v;
+    std::memcpy(&v, k->bytes.data() + i * sizeof v, sizeof v);
+    n += v != 0;
+  }
+  return n;
+}
+
 }  // namespace
 
 bool restart_may_change(const std::string& k) {
-  return k == "time.end" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
+  return k == "time.end" || k == "particles.max_count" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
          starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
          starts_with(k, "log.") || k == "execution" || starts_with(k, "execution.");  // cpu <-> cuda restarts
 }
@@ -71,29 +85,39 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
     const std::string was = h.scene.contains(ptr) ? h.scene.at(ptr).dump() : "(absent)";
     const std::string now = sim.scene().resolved.contains(ptr) ? sim.scene().resolved.at(ptr).dump() : "(absent)";
     throw InputError(where + "the scene's physics differs from the checkpoint's at key '" + k + "' (checkpoint: " +
-                     was + ", scene: " + now + "); only time.end, output.*, checkpoint.*, probes and log.* may "
+                     was + ", scene: " + now + "); only time.end, output.*, checkpoint.*, probes, log.* and particles.max_count may "
                      "change on restart");
   }
-  if (std::size_t(h.particles) != sim.size())
+  // a checkpoint written after fluid particles were removed (health.*) holds fewer fluid particles than
+  // the scene builds; boundary particles are never removed, so their count must match
+  if (std::size_t(h.particles) > sim.size())
     throw InputError(where + "checkpoint has " + std::to_string(h.particles) + " particles, the scene builds " +
                      std::to_string(sim.size()));
+  const std::size_t ckpt_boundary = checkpoint_boundary_count(c, std::size_t(h.particles), where);
+  if (ckpt_boundary != sim.count(1))
+    throw InputError(where + "checkpoint has " + std::to_string(ckpt_boundary) + " boundary particles, the scene builds " +
+                     std::to_string(sim.count(1)) + " (" + std::to_string(h.particles) + " particles in all, the scene " +
+                     std::to_string(sim.size()) + ")");
   if (h.integrator != sim.integrator().name())
     throw InputError(where + "checkpoint was written by the '" + h.integrator + "' integrator, the scene uses '" +
                      sim.integrator().name() + "'");
   // every checkpointed field of this build must be in the file with the same shape and type
+  const std::size_t n = std::size_t(h.particles);
   for (const auto& f : sim.store().fields()) {
     if (!f->flags().checkpointed) continue;
     const io::CheckpointArray* a = c.find(f->name());
     if (!a) throw InputError(where + "particle field '" + f->name() + "' is missing from the checkpoint");
     if (a->type != f->scalar_type() || a->components != f->components() ||
-        a->bytes.size() != f->bytes_per_particle() * sim.size())
+        a->bytes.size() != f->bytes_per_particle() * n)
       throw InputError(where + "particle field '" + f->name() + "' has another type or shape in the checkpoint");
   }
+  sim.resize_particles(n);
   for (const auto& f : sim.store().fields()) {
     if (!f->flags().checkpointed) continue;
     const io::CheckpointArray* a = c.find(f->name());
     if (!a->bytes.empty()) std::memcpy(f->raw(), a->bytes.data(), a->bytes.size());
   }
+  sim.recount_kinds();
   sim.set_clock(h.time, long(h.step));
   // the arrays are in the order of the checkpointed step's cell sort; sorting again is stable, so this
   // rebuilds the neighbour grid for them without changing the order (checked by the restart tests)
@@ -124,6 +148,7 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
 template <int D>
 void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_state) {
   const auto& fields = sim.store().fields();
+  particles_ = sim.size();
   buffers_.resize(sim.on_device() ? 0 : fields.size());
   if (sim.on_device()) {  // a device run keeps its copy on the device (no transfer per step)
     sim.device()->snapshot_capture();
@@ -146,16 +171,39 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
 
 template <int D>
 void StateSnapshot<D>::restore(Simulation<D>& sim) const {
-  if (sim.on_device()) sim.device()->snapshot_restore();
+  if (sim.on_device()) sim.device()->snapshot_restore();  // device runs remove no particles (docs/gpu.md)
+  // particles removed after the capture (health.*) come back with the rest of the state
+  else if (sim.size() != particles_) sim.resize_particles(particles_);
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
     if (!f->flags().checkpointed || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
     if (!buffers_[k].empty()) std::memcpy(f->raw(), buffers_[k].data(), buffers_[k].size());
   }
+  sim.recount_kinds();
   sim.set_clock(time_, step_);
   sim.set_dt(dt_);
   sim.integrator().restore_state(integrator_state_);
+}
+
+template <int D>
+long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
+  if (sim.on_device()) sim.device()->snapshot_restore();  // the device's own copy, binned there
+  const auto& fields = sim.store().fields();
+  for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
+    const auto& f = fields[k];
+    if (!f->flags().checkpointed || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
+    if (!buffers_[k].empty()) std::memcpy(f->raw(), buffers_[k].data(), buffers_[k].size());
+  }
+  // the order of restore_from_checkpoint(): the arrays are in the captured step's cell order, and the
+  // stable sort rebuilds its grid without moving them
+  sim.set_clock(time_, step_);
+  if (!sim.on_device()) sim.sort_and_bin();
+  sim.set_dt(dt_);
+  sim.integrator().restore_state(integrator_state_);
+  long replayed = 0;
+  for (; sim.step() < step; ++replayed) sim.advance();
+  return replayed;
 }
 
 template <int D>

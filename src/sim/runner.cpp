@@ -23,6 +23,7 @@
 #include "sim/build_info.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/frame_export.hpp"
+#include "sim/health.hpp"
 #include "sim/probes.hpp"
 #include "sim/restart.hpp"
 #include "sim/simulation.hpp"
@@ -43,12 +44,18 @@ std::string iso_now() {
 const std::vector<std::string> kDiagnosticColumns = {
     "frame", "step", "time", "dt", "momentum_x", "momentum_y", "momentum_z", "momentum_Q", "angular_momentum",
     "kinetic_energy", "potential_energy", "internal_energy", "max_speed", "density_error_max", "wall_seconds",
-    "fp_iterations_mean", "fp_iterations_max", "fp_residual_max", "fp_contraction_max", "dt_bound"};
+    "fp_iterations_mean", "fp_iterations_max", "fp_residual_max", "fp_contraction_max", "dt_bound",
+    // health.* (sim/health.hpp): fluid particles now, and removed since the start per rule
+    "fluid_particles", "removed_domain", "removed_density", "removed_speed"};
+
+const std::vector<std::string> kRemovedColumns = {
+    "time", "step", "id", "rule", "x", "y", "z", "vx", "vy", "vz", "density", "pressure", "fluid_neighbours",
+    "boundary_neighbours"};
 
 template <int D>
 class Runner {
  public:
-  Runner(const scene::Scene& s, const RunOptions& o) : scene_(s), opt_(o) {}
+  Runner(const scene::Scene& s, const RunOptions& o) : scene_(s), opt_(o), health_(s) {}
 
   int run() {
     using clock = std::chrono::steady_clock;
@@ -128,11 +135,13 @@ class Runner {
       accumulate(rep);
       warn_dt_bound(sim.dt(), rep.dt_bound, sim.step());
       last_frame_at_current_ = false;
-      if (const std::string bad = sim.on_device() ? exec::check_device_health(sim) : check_health(sim); !bad.empty()) {
+      // device runs keep the strict check (a violation stops the run; no removal on the device: docs/gpu.md)
+      if (const std::string bad = sim.on_device() ? exec::check_device_health(sim) : health_.after_step(sim); !bad.empty()) {
         failure = handle_blow_up(sim, bad);
         exit_code = kExitNumerical;
         break;
       }
+      if (!health_.last_removed().empty()) write_removed();
       if (sim.time() >= next_frame_ - 0.5 * sim.dt()) {
         if (deferrable(sim)) defer(sim, /*frame=*/true);
         else write_frame(sim);
@@ -192,8 +201,8 @@ class Runner {
       return exit_code;
     }
     if (!opt_.quiet)
-      std::printf("varsph: done: %ld steps in %.2f s (%.1f ns per fluid particle-step); %s\n", steps_, wall,
-                  wall / std::max(particle_steps_, 1.0) * 1e9, dir_.pvd().string().c_str());
+      std::printf("varsph: done: %ld steps in %.2f s (%.1f ns per fluid particle-step); %s%s\n", steps_, wall,
+                  wall / std::max(particle_steps_, 1.0) * 1e9, dir_.pvd().string().c_str(), removal_summary().c_str());
     return kExitOk;
   }
 
@@ -245,6 +254,11 @@ class Runner {
       last_frame_name_ = "(none since the restart)";
     }
     diag_.open(dir_.diagnostics(), kDiagnosticColumns, keep_up_to);
+    removed_csv_.open(dir_.removed(), kRemovedColumns, keep_up_to);
+    if (ckpt && ckpt->header.runner_state.contains("health"))
+      health_.restore_state(ckpt->header.runner_state.at("health"));
+    else
+      health_.start(sim);
     if (!probes.empty()) {
       std::vector<std::string> cols = {"time"};
       for (auto& c : probes.columns()) cols.push_back(c);
@@ -291,6 +305,7 @@ class Runner {
             {"probes_every", scene_.probes_every},
             {"next_checkpoint", next_checkpoint_},
             {"checkpoint_every", scene_.checkpoint_every},
+            {"health", health_.save_state()},
             {"fp",
              {{"steps", fp_steps_},
               {"iter_sum", fp_iter_sum_},
@@ -368,9 +383,15 @@ class Runner {
   }
 
   // --- blow-up handling ---------------------------------------------------------------------------
-  // The state before each step is copied into preallocated buffers (cost measured in run.json:
-  // timings.last_good_copy_seconds), so a failing step can be undone and written.
+  // The state is copied into preallocated buffers every kLastGoodEvery steps (cost in run.json:
+  // timings.last_good_copy_seconds); a failing step is undone by restoring the copy and replaying the
+  // steps after it, which reproduces the last good step exactly (StateSnapshot::replay_to).
+  static constexpr long kLastGoodEvery = 100;
+  // Device runs copy on the device every step (cheap there): the deferred outputs download that copy.
   void capture_last_good(Simulation<D>& sim) {
+    if (!sim.on_device() && last_good_.valid() && sim.step() - last_good_.step() < kLastGoodEvery &&
+        sim.step() >= last_good_.step())
+      return;
     const auto t = std::chrono::steady_clock::now();
     last_good_.capture(sim, runner_state());
     snapshot_seconds_ += seconds_since(t);
@@ -382,11 +403,41 @@ class Runner {
     std::string msg = "numerical failure at step " + std::to_string(bad_step) + ", t = " + std::to_string(bad_time) +
                       " s: " + bad + ".";
     if (!last_good_.valid()) return msg;
-    last_good_.restore(sim);
+    last_good_.replay_to(sim, bad_step - 1);
     if (last_frame_step_ != sim.step()) write_frame(sim);
     const std::string cp = write_checkpoint(sim);
     return msg + " Wrote the last good state (step " + std::to_string(sim.step()) + ", t = " +
            std::to_string(sim.time()) + " s): frame " + last_frame_name_ + ", checkpoint " + cp;
+  }
+
+  // --- particles removed by the health rules ------------------------------------------------------
+  // One removed.csv row per particle; the first removal of each rule is also reported on stderr.
+  void write_removed() {
+    using io::CsvTable;
+    for (const RemovedParticle& p : health_.last_removed()) {
+      removed_csv_.row({CsvTable::num(p.time), CsvTable::num(p.step), CsvTable::num(long(p.id)),
+                        removal_rule_name(p.rule), CsvTable::num(p.x[0]), CsvTable::num(p.x[1]), CsvTable::num(p.x[2]),
+                        CsvTable::num(p.v[0]), CsvTable::num(p.v[1]), CsvTable::num(p.v[2]), CsvTable::num(p.rho),
+                        CsvTable::num(p.p), CsvTable::num(long(p.fluid_neighbours)),
+                        CsvTable::num(long(p.boundary_neighbours))});
+      bool& warned = warned_removal_[std::size_t(p.rule)];
+      if (warned) continue;
+      warned = true;
+      std::fprintf(stderr,
+                   "varsph: warning: step %ld, t = %.6g s: removed fluid particle id %lld (health rule '%s': density "
+                   "%.6g kg/m^3, speed %.4g m/s, %d fluid neighbours); further removals are counted in "
+                   "diagnostics.csv and listed in removed.csv\n",
+                   p.step, p.time, static_cast<long long>(p.id), removal_rule_name(p.rule), p.rho,
+                   std::sqrt(p.v[0] * p.v[0] + p.v[1] * p.v[1] + p.v[2] * p.v[2]), p.fluid_neighbours);
+    }
+  }
+
+  std::string removal_summary() const {
+    if (health_.removed_total() == 0) return "";
+    const auto& r = health_.removed();
+    return "; removed " + std::to_string(health_.removed_total()) + " of " + std::to_string(health_.initial_fluid()) +
+           " fluid particles (domain " + std::to_string(r[0]) + ", density " + std::to_string(r[1]) + ", speed " +
+           std::to_string(r[2]) + "; removed.csv)";
   }
 
   // --- per-frame and per-sample output ------------------------------------------------------------
@@ -448,6 +499,8 @@ class Runner {
     } else {
       row.insert(row.end(), 5, "");
     }
+    row.push_back(CsvTable::num(long(sim.count(0))));
+    for (const long c : health_.removed()) row.push_back(CsvTable::num(c));
     diag_.row(row);
     fp_steps_ = 0;
     fp_iter_sum_ = 0;
@@ -469,6 +522,7 @@ class Runner {
                      {"c0", scene_.c0},          {"c0_rule", scene_.c0_rule},
                      {"B", double(sim.eos().B)}, {"fluid_particles", sim.count(0)},
                      {"boundary_particles", sim.count(1)}};
+    j["health"] = health_.report();
     j["started"] = started_;
     j["status"] = status;
     if (!message.empty()) j["message"] = message;
@@ -481,7 +535,9 @@ class Runner {
                       {"fluid_particle_steps_per_second", particle_steps_ / std::max(wall, 1e-9)},
                       {"ns_per_fluid_particle_step", wall / std::max(particle_steps_, 1.0) * 1e9},
                       {"threads", omp_get_max_threads()},
+                      {"pair_sweep", sim.rates().simd()},
                       {"last_good_copy_seconds", snapshot_seconds_},
+                      {"last_good_every_steps", kLastGoodEvery},
                       {"last_good_copy_bytes", last_good_.bytes()}};
     }
     io::write_text_atomically(dir_.run_json(), j.dump(2) + "\n");
@@ -492,7 +548,9 @@ class Runner {
   io::RunDirectory dir_;
   std::unique_ptr<io::PvdSeries> pvd_;
   Probes<D>* probes_ = nullptr;  // the run loop's probes (their accumulation goes into checkpoints)
-  io::CsvTable diag_, probes_csv_;
+  io::CsvTable diag_, probes_csv_, removed_csv_;
+  HealthMonitor<D> health_;
+  std::array<bool, kRemovalRules> warned_removal_{};
   double next_frame_ = 0, next_probe_ = 0, next_checkpoint_ = 0;
   long last_checkpoint_step_ = -1, last_frame_step_ = -1;
   std::chrono::steady_clock::time_point last_checkpoint_wall_;

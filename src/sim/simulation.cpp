@@ -174,6 +174,35 @@ std::size_t Simulation<D>::count(std::int32_t kind) const {
 }
 
 template <int D>
+void Simulation<D>::recount_kinds() {
+  n_fluid_ = n_boundary_ = 0;
+  for (const std::int32_t k : f_.kind.data) (k == 0 ? n_fluid_ : n_boundary_) += 1;
+}
+
+template <int D>
+void Simulation<D>::remove_particles(std::span<const std::uint32_t> indices) {
+  if (indices.empty()) return;
+  const std::size_t n = store_.size();
+  kept_.clear();
+  kept_.reserve(n - indices.size());
+  std::size_t r = 0;
+  for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
+    if (r < indices.size() && indices[r] == i) {
+      ++r;
+      continue;
+    }
+    kept_.push_back(i);
+  }
+  if (r != indices.size()) throw std::logic_error("Simulation::remove_particles: indices not ascending or out of range");
+  store_.compact(kept_);
+  recount_kinds();
+  // the survivors keep their cell order, so this stable sort only rebuilds the blocks and ranges
+  grid_.build(std::span<const Vec<D>>(f_.x.data), perm_);
+  store_.permute(perm_);
+  if (wall_v_) update_pressure();  // dummy walls: extrapolated from the fluid that is left
+}
+
+template <int D>
 void Simulation<D>::set_skin(Real skin) {
   skin_ = skin;
   typename NeighborGrid<D>::Options o;
