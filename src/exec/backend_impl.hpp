@@ -79,8 +79,7 @@ class Backend final : public DeviceBackend<D> {
       // host-only fields follow the device's reordering since the last upload: new[k] = old[origin[k]]
       origin_host_.resize(n_);
       launch_.to_host(origin_host_.data(), origin_, n_ * sizeof(std::uint32_t));
-      for (auto& f : f_)
-        if (!f.dev) f.host->permute(origin_host_, permute_scratch_);
+      permute_host_only(origin_host_);
       // the last-good copy's order, re-expressed against the new host order: snap' = origin^-1 o snap
       if (snapshot_valid_) {
         std::uint32_t* inv = work_u32(0);
@@ -147,8 +146,7 @@ class Backend final : public DeviceBackend<D> {
     if (!any_host_only_) return;
     // the host-only fields in the snapshot's order; the device's origins re-expressed against it:
     // origin'[d] = snap^-1[origin[d]]; the snapshot is then in the host's order
-    for (auto& f : f_)
-      if (!f.dev) f.host->permute(origin_snap_host_, permute_scratch_);
+    permute_host_only(origin_snap_host_);
     std::uint32_t* inv = work_u32(0);
     launch_.for_each(n_, InvertBody{origin_snap_, inv});
     launch_.for_each(n_, ComposeBody{inv, origin_, work_u32(1)});
@@ -183,6 +181,15 @@ class Backend final : public DeviceBackend<D> {
   const std::int32_t* kind() const { return static_cast<const std::int32_t*>(f_[std::size_t(ikind_)].dev); }
   std::uint32_t* work_u32(int slot) const { return reinterpret_cast<std::uint32_t*>(work_) + std::size_t(slot) * n_; }
 
+  // host-only fields reordered by perm (new[k] = old[perm[k]]); Field::permute takes a scratch sized for it
+  void permute_host_only(const std::vector<std::uint32_t>& perm) {
+    std::size_t bytes = 0;
+    for (const auto& f : f_)
+      if (!f.dev) bytes = std::max(bytes, f.elem * n_);
+    if (permute_scratch_.size() < bytes) permute_scratch_.resize(bytes);
+    for (auto& f : f_)
+      if (!f.dev) f.host->permute(perm, permute_scratch_);
+  }
   void allocate() {
     const auto& fields = s_.fields;
     std::size_t max_elem = 8;

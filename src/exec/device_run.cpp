@@ -132,7 +132,7 @@ DeviceSetup<D> setup_of(Simulation<D>& sim) {
     s.variational_wall = !s.variational_explicit && s.params.boundary == physics::BoundaryModel::Repulsive &&
                          s.params.wall_D > 0;
   }
-  s.max_density_error = sc.max_density_error;
+  s.max_density_error = sc.health.max_density_error;
   for (int a = 0; a < D; ++a) {
     s.domain_min[a] = sc.domain_min[std::size_t(a)];
     s.domain_max[a] = sc.domain_max[std::size_t(a)];
@@ -216,7 +216,8 @@ std::string check_device_health(Simulation<D>& sim) {
   sim.sync_host();  // the host check names the same (lowest-index) particle with the host's message
   std::string msg = check_health(sim);
   if (msg.empty()) msg = "particle index " + std::to_string(bad) + " failed the device health check";
-  return msg;
+  // no removal on the device (docs/gpu.md): the first violation stops the run, as health.on_violation = "stop"
+  return "device health check (a device run stops at the first violation): " + msg;
 }
 
 template GridView<2> grid_view_of<2>(const NeighborGrid<2>&);

@@ -134,10 +134,9 @@ TEST(DeviceGrid, HostLaunchReductionsAndIndexing) {
   for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(hits[i], 1u) << i;
   // the two-pass reduction over more items than its first pass has threads
   const std::size_t m = exec::HostLaunch::kReduceBlocks * exec::HostLaunch::kBlock * 2 + 5;
-  struct Item {
-    double operator()(std::size_t i) const { return i == 777777 ? 5.5 : double(i % 1000) * 1e-3; }
-  };
-  EXPECT_EQ(launch.reduce<exec::MaxOp>(m, Item{}), 5.5);
+  const std::size_t spike = m - 3;  // in the second stride of the last block
+  EXPECT_EQ(launch.reduce<exec::MaxOp>(m, [spike](std::size_t i) { return i == spike ? 5.5 : double(i % 1000) * 1e-3; }),
+            5.5);
   struct Bad {
     std::uint64_t operator()(std::size_t i) const { return (i % 4099 == 4098) ? std::uint64_t(i) : ~std::uint64_t(0); }
   };

@@ -10,6 +10,8 @@
 // through the surge front and probes within a stated fraction of dx.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -214,6 +216,7 @@ TEST(DeviceVsCpu, RatesAndOneStepAgreeOnDamBreaksWithWalls) {
                       "paper dam break (repulsive walls eq. 58, verlet)");
   const auto dsph = [](nlohmann::json& j) {
     j["particles"]["spacing"] = 0.025;
+    j["domain"] = {{"min", {-0.1, -0.1, -0.1}}, {"max", {1.1, 0.5, 0.8}}};  // 3-4 wall layers of 0.025
     j["kernel"] = {{"type", "cubic_spline"}, {"h_over_dx", 1.732}};
     j["physics"]["artificial_viscosity"] = {{"alpha", 0.1}};
     j["physics"]["density_diffusion"] = {{"type", "fourtakas"}, {"delta", 0.1}};
@@ -253,6 +256,9 @@ TEST(DeviceVsCpu, PaperDamBreakSummationDensity) {
 // The paper's variational integrator: fixed point, contraction watch, eq. (54) bound, on the device.
 TEST(DeviceVsCpu, PaperDamBreakVariational) {
   SKIP_WITHOUT_DEVICE();
+  // The device's fixed point starts from the constant guess (a1 = a2 of the last step); the CPU's default
+  // extrapolates a1 from the last two steps (issue 19) and so takes other iteration counts: compare like with like.
+  setenv("VARSPH_VARIATIONAL_PREDICTOR", "constant", 1);
   for (const double alpha : {0.5, 0.0}) {
     const auto edit = [&](nlohmann::json& j) {
       j["integrator"] = {{"type", "variational"}, {"dt", 1e-4}, {"alpha", alpha}};
@@ -283,6 +289,9 @@ TEST(DeviceVsCpu, PaperDamBreakVariational) {
 // Halving dt when the fixed point does not converge (integrator.fixed_point.on_failure = halve_dt).
 TEST(DeviceVsCpu, VariationalHalvesDtLikeTheCpu) {
   SKIP_WITHOUT_DEVICE();
+  // The device's fixed point starts from the constant guess (a1 = a2 of the last step); the CPU's default
+  // extrapolates a1 from the last two steps (issue 19) and so takes other iteration counts: compare like with like.
+  setenv("VARSPH_VARIATIONAL_PREDICTOR", "constant", 1);
   const auto edit = [](nlohmann::json& j) {
     j["integrator"] = {{"type", "variational"},
                        {"dt", 4e-4},
@@ -294,7 +303,10 @@ TEST(DeviceVsCpu, VariationalHalvesDtLikeTheCpu) {
   Simulation<2> cpu(cs), dev(ds);
   step_both(cpu, dev, 4, "variational halving");
   EXPECT_LT(dev.dt(), 4e-4) << "the device halved dt";
-  EXPECT_EQ(cpu.integrator().save_state(), dev.integrator().save_state());
+  // the halving state the restart reads; the eq. (54) bound is a max over particles of sums in another order
+  const auto c = cpu.integrator().save_state(), d = dev.integrator().save_state();
+  for (const char* k : {"halvings", "steps_since_change", "dt_prev"}) EXPECT_EQ(c.at(k), d.at(k)) << k;
+  EXPECT_NEAR(c.at("dt_bound").get<double>(), d.at("dt_bound").get<double>(), 1e-6 * c.at("dt_bound").get<double>());
 }
 
 // --- a 3D dam break the way DualSPHysics runs it: dynamic walls, artificial viscosity, Fourtakas diffusion,
@@ -303,6 +315,7 @@ TEST(DeviceVsCpu, DamBreak3DVerletDsphFourtakas) {
   SKIP_WITHOUT_DEVICE();
   const auto edit = [](nlohmann::json& j) {
     j["particles"]["spacing"] = kLong ? 0.0086 : 0.025;
+    j["domain"] = {{"min", {-0.1, -0.1, -0.1}}, {"max", {1.1, 0.5, 0.8}}};  // 3 wall layers of 0.025
     j["kernel"] = {{"type", "cubic_spline"}, {"h_over_dx", 1.732}};
     j["physics"]["artificial_viscosity"] = {{"alpha", 0.1}};
     j["physics"]["density_diffusion"] = {{"type", "fourtakas"}, {"delta", 0.1}};
