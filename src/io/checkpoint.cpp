@@ -266,6 +266,32 @@ struct Reader {
     s.resize(std::strlen(s.c_str()));
     return s;
   }
+  // Every chunk the index lists must be stored in exactly its data plus the 4-byte Fletcher-32 checksum
+  // (the only filter the writer sets). HDF5 1.10.8 runs the checksum filter over a chunk whose index
+  // claims fewer than 4 bytes with a length of (bytes - 4) wrapped around: a segfault (one flipped bit,
+  // found by test_checkpoint_damage_all; fuzz/regressions/checkpoint/refused_flip_chunk_size_2_bytes.h5).
+  void check_chunks(hid_t d, hid_t space, const std::string& name, int rank, std::size_t scalar_size) const {
+    Handle dcpl(check_id(H5Dget_create_plist(d), "dataset '" + name + "' properties"));
+    if (H5Pget_layout(dcpl.get()) != H5D_CHUNKED) return;  // contiguous: no filter (the digest checks it)
+    hsize_t chunk[2] = {0, 0};
+    if (H5Pget_chunk(dcpl.get(), 2, chunk) != rank) fail("dataset '" + name + "' has an unreadable chunk shape");
+    double chunk_bytes = double(scalar_size);
+    for (int k = 0; k < rank; ++k) chunk_bytes *= double(chunk[k]);
+    hsize_t n = 0;
+    if (H5Dget_num_chunks(d, space, &n) < 0)  // HDF5 1.10.8 refuses H5S_ALL here
+      fail("dataset '" + name + "' has an unreadable chunk index");
+    for (hsize_t k = 0; k < n; ++k) {
+      hsize_t offset[2] = {0, 0};
+      unsigned filter_mask = 0;
+      haddr_t address = 0;
+      hsize_t stored = 0;
+      if (H5Dget_chunk_info(d, space, k, offset, &filter_mask, &address, &stored) < 0)
+        fail("dataset '" + name + "' has an unreadable chunk index");
+      if (double(stored) != chunk_bytes + 4)
+        fail("dataset '" + name + "' chunk " + std::to_string(k) + " is stored in " + std::to_string(stored) +
+             " bytes, expected " + std::to_string(std::uint64_t(chunk_bytes) + 4) + " (its data and checksum)");
+    }
+  }
   // Reads a dataset of rows x components scalars of the given type; returns rows.
   std::vector<std::byte> dataset(hid_t group, const std::string& name, ScalarType type, std::int64_t rows,
                                  int& components_out, bool is_text = false) const {
@@ -293,6 +319,7 @@ struct Reader {
     // chunk index of format-1 files carries no checksum of its own)
     check_size(double(H5Dget_storage_size(d.get())), "dataset '" + name + "' storage");
     const std::size_t count = std::size_t(dims[0]) * std::size_t(components_out);
+    if (count > 0) check_chunks(d.get(), space.get(), name, rank, fsize);
     std::vector<std::byte> out(count * (is_text ? 1 : scalar_bytes(type)));
     if (count > 0 &&
         H5Dread(d.get(), is_text ? H5T_NATIVE_CHAR : native_type(type), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
