@@ -180,6 +180,25 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
 }
 
 template <int D>
+long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
+  const auto& fields = sim.store().fields();
+  for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
+    const auto& f = fields[k];
+    if (!f->flags().checkpointed || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
+    if (!buffers_[k].empty()) std::memcpy(f->raw(), buffers_[k].data(), buffers_[k].size());
+  }
+  // the order of restore_from_checkpoint(): the arrays are in the captured step's cell order, and the
+  // stable sort rebuilds its grid without moving them
+  sim.set_clock(time_, step_);
+  sim.sort_and_bin();
+  sim.set_dt(dt_);
+  sim.integrator().restore_state(integrator_state_);
+  long replayed = 0;
+  for (; sim.step() < step; ++replayed) sim.advance();
+  return replayed;
+}
+
+template <int D>
 std::size_t StateSnapshot<D>::bytes() const {
   std::size_t b = 0;
   for (const auto& v : buffers_) b += v.size();
