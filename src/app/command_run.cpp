@@ -8,7 +8,9 @@
 namespace varsph {
 
 int command_run(const CommandArgs& a) {
-  const scene::Scene s = scene::parse_scene(a.scene, a.overrides);
+  std::vector<std::string> overrides = a.overrides;
+  if (!a.device.empty()) overrides.push_back("execution.device=\"" + a.device + "\"");  // validated with the scene
+  const scene::Scene s = scene::parse_scene(a.scene, overrides);
   for (const auto& w : scene::check_sanity(s)) std::fprintf(stderr, "varsph: warning: %s: %s\n", s.file.string().c_str(), w.c_str());
   RunOptions o;
   if (!a.output.empty()) o.output_dir = a.output;

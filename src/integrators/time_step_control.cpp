@@ -29,9 +29,7 @@ double effective_viscosity(const Simulation<D>& sim) {
 
 template <int D>
 CflLimits cfl_limits(const Simulation<D>& sim) {
-  const auto& s = sim.scene();
   const auto& f = sim.fields();
-  CflLimits L;
   double vmax = 0, amax = 0;
   const long n = long(sim.size());
 #pragma omp parallel for schedule(static) reduction(max : vmax, amax)
@@ -40,6 +38,13 @@ CflLimits cfl_limits(const Simulation<D>& sim) {
     vmax = std::max(vmax, double(f.v[i].norm()));
     amax = std::max(amax, double(f.a[i].norm()));
   }
+  return cfl_limits(sim, vmax, amax);
+}
+
+template <int D>
+CflLimits cfl_limits(const Simulation<D>& sim, double vmax, double amax) {
+  const auto& s = sim.scene();
+  CflLimits L;
   L.v_max = vmax;
   L.a_max = amax;
   const double h = s.h;
@@ -54,5 +59,7 @@ template double effective_viscosity<2>(const Simulation<2>&);
 template double effective_viscosity<3>(const Simulation<3>&);
 template CflLimits cfl_limits<2>(const Simulation<2>&);
 template CflLimits cfl_limits<3>(const Simulation<3>&);
+template CflLimits cfl_limits<2>(const Simulation<2>&, double, double);
+template CflLimits cfl_limits<3>(const Simulation<3>&, double, double);
 
 }  // namespace varsph

@@ -324,6 +324,9 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   if (!s.probes.is_array()) r.fail_got("probes", "a list of probes", s.probes);
   s.health = parse_health(r);
   s.log_every_steps = int(r.integer("log.every_steps", 0, 0, 1000000000));
+  // where the steps run (docs/gpu.md): the OpenMP host loops, a CUDA device, or the CUDA backend's
+  // loops through a host launch (tests, debugging)
+  s.device = r.choice("execution.device", "cpu", {"cpu", "cuda", "cuda_emulation"});
 
   r.check_unknown();
   s.resolved = r.resolved();

@@ -135,6 +135,8 @@ struct Scene {
   double cfl_force = 0.2;     // integrator.cfl_criteria.force    (default integrator.cfl, else 0.2)
   double cfl_viscous = 0.125; // integrator.cfl_criteria.viscous  (Morris 1997)
   int shepard_reinit_every = 0;  // physics.shepard_reinit.every [steps], 0 = off
+
+  std::string device = "cpu";  // execution.device: cpu | cuda | cuda_emulation (docs/gpu.md)
 };
 
 // Parses and validates a scene file with --set overrides applied first (InputError on any problem).

@@ -10,7 +10,8 @@ inline nlohmann::json build_info() {
           {"native", bool(VARSPH_NATIVE_BUILD)},
           {"build_type", VARSPH_BUILD_TYPE},
           {"compiler", __VERSION__},
-          {"openmp", _OPENMP}};
+          {"openmp", _OPENMP},
+          {"cuda", bool(VARSPH_HAVE_CUDA_BUILD)}};  // the CUDA backend is compiled in (docs/gpu.md)
 }
 
 }  // namespace varsph

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "core/errors.hpp"
+#include "exec/device_backend.hpp"
 
 namespace varsph {
 namespace {
@@ -40,7 +41,7 @@ std::size_t checkpoint_boundary_count(const io::Checkpoint& c, std::size_t parti
 bool restart_may_change(const std::string& k) {
   return k == "time.end" || k == "particles.max_count" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
          starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
-         starts_with(k, "log.");
+         starts_with(k, "log.") || k == "execution" || starts_with(k, "execution.");  // cpu <-> cuda restarts
 }
 
 std::string first_physics_difference(const nlohmann::json& a, const nlohmann::json& b) {
@@ -123,6 +124,7 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
   sim.sort_and_bin();
   sim.set_dt(h.dt);
   sim.integrator().restore_state(h.integrator_state);
+  sim.host_state_changed();  // a device run continues from the restored store
 }
 
 template <int D>
@@ -147,8 +149,12 @@ template <int D>
 void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_state) {
   const auto& fields = sim.store().fields();
   particles_ = sim.size();
-  buffers_.resize(fields.size());
-  for (std::size_t k = 0; k < fields.size(); ++k) {
+  buffers_.resize(sim.on_device() ? 0 : fields.size());
+  if (sim.on_device()) {  // a device run keeps its copy on the device (no transfer per step)
+    sim.device()->snapshot_capture();
+    device_bytes_ = sim.device()->snapshot_bytes();
+  }
+  for (std::size_t k = 0; k < buffers_.size(); ++k) {
     const auto& f = fields[k];
     if (!f->flags().checkpointed) continue;
     const std::size_t n = f->bytes_per_particle() * f->size();
@@ -165,8 +171,9 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
 
 template <int D>
 void StateSnapshot<D>::restore(Simulation<D>& sim) const {
+  if (sim.on_device()) sim.device()->snapshot_restore();  // device runs remove no particles (docs/gpu.md)
   // particles removed after the capture (health.*) come back with the rest of the state
-  if (sim.size() != particles_) sim.resize_particles(particles_);
+  else if (sim.size() != particles_) sim.resize_particles(particles_);
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
@@ -181,6 +188,7 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
 
 template <int D>
 long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
+  if (sim.on_device()) sim.device()->snapshot_restore();  // the device's own copy, binned there
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
@@ -190,7 +198,7 @@ long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
   // the order of restore_from_checkpoint(): the arrays are in the captured step's cell order, and the
   // stable sort rebuilds its grid without moving them
   sim.set_clock(time_, step_);
-  sim.sort_and_bin();
+  if (!sim.on_device()) sim.sort_and_bin();
   sim.set_dt(dt_);
   sim.integrator().restore_state(integrator_state_);
   long replayed = 0;
@@ -200,7 +208,7 @@ long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
 
 template <int D>
 std::size_t StateSnapshot<D>::bytes() const {
-  std::size_t b = 0;
+  std::size_t b = device_bytes_;
   for (const auto& v : buffers_) b += v.size();
   return b;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/errors.hpp"
+#include "exec/device_run.hpp"
 #include "physics/pair_loop.hpp"
 #include "integrators/time_step_control.hpp"
 #include "physics/corrections/corrections.hpp"
@@ -79,6 +80,7 @@ template <int D>
 Simulation<D>::Simulation(const scene::Scene& scene)
     : scene_(scene), f_(store_), params_(params_from<D>(scene)), eos_(Real(scene.rho0), Real(scene.c0), Real(scene.background_pressure)) {
   if (scene.dimension != D) throw std::logic_error("scene dimension does not match Simulation<D>");
+  exec::check_device_scene(scene);  // a device this build or machine lacks, or a term not on it: exit 2 now
   rates_ = physics::make_rates<D>(params_);
 
   InitialParticles<D> init = build_particles<D>(scene, double(eos_.B));
@@ -132,6 +134,38 @@ Simulation<D>::Simulation(const scene::Scene& scene)
   update_pressure();
   dt_ = scene.dt ? *scene.dt : cfl_dt();
   integrator_->initialize(*this);
+  if (scene.device != "cpu") {  // initialised on the host, then stepped on the device
+    device_ = std::make_unique<exec::DeviceRun<D>>(*this, std::move(integrator_));
+    integrator_ = device_->take_integrator();
+  }
+}
+
+template <int D>
+Simulation<D>::~Simulation() = default;
+
+template <int D>
+exec::DeviceBackend<D>* Simulation<D>::device() {
+  return device_ ? &device_->backend() : nullptr;
+}
+
+template <int D>
+void Simulation<D>::sync_host() {
+  if (!device_ || !device_->backend().device_ahead()) return;
+  device_->backend().download();
+  // the host grid for the downloaded positions: binned on the device by the same keys and a stable sort,
+  // so the host sort keeps every particle where it is (permuted only if it does not)
+  grid_.build(std::span<const Vec<D>>(f_.x.data), perm_);
+  for (std::size_t k = 0; k < perm_.size(); ++k)
+    if (perm_[k] != k) {
+      store_.permute(perm_);
+      device_->backend().upload();  // keep the two orders equal
+      break;
+    }
+}
+
+template <int D>
+void Simulation<D>::host_state_changed() {
+  if (device_) device_->backend().upload();
 }
 
 template <int D>
