@@ -98,11 +98,11 @@ def frame_from_vtk(dataset, time=None, path=None):
 
 
 def read_vtu(path, time=None):
-    """Read one VTU frame written by the solver."""
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    """Read one frame written by the solver: a .vtu, or the .pvtu of a run on several MPI ranks."""
+    from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader, vtkXMLUnstructuredGridReader
     if not os.path.isfile(path):
         raise FileNotFoundError("frame file not found: %s" % path)
-    r = vtkXMLUnstructuredGridReader()
+    r = vtkXMLPUnstructuredGridReader() if path.endswith(".pvtu") else vtkXMLUnstructuredGridReader()
     r.SetFileName(path)
     r.Update()
     return frame_from_vtk(r.GetOutput(), time=time, path=path)

@@ -1,11 +1,20 @@
+#include <algorithm>
+#include <cstdlib>
+#include <optional>
+#include <thread>
+
 #include "app/commands.hpp"
+#include "parallel/collective.hpp"
 #include "scene/scene.hpp"
 #include "sim/runner.hpp"
 
 namespace varsph {
 
 int command_run(const CommandArgs& a) {
-  const scene::Scene s = scene::parse_scene(a.scene, a.overrides);
+  // every rank parses the same scene; agreeing on errors keeps them from aborting one another
+  std::optional<scene::Scene> parsed;
+  parallel::collectively(*a.comm, [&] { parsed = scene::parse_scene(a.scene, a.overrides); });
+  const scene::Scene& s = *parsed;
   RunOptions o;
   if (!a.output.empty()) o.output_dir = a.output;
   else if (!a.restart.empty())  // DIR/checkpoints/step_N.h5 -> DIR: continue in the run's own directory
@@ -14,6 +23,10 @@ int command_run(const CommandArgs& a) {
   o.overwrite = a.overwrite;
   o.quiet = a.quiet;
   o.threads = a.threads;
+  o.comm = a.comm;
+  // ranks sharing a machine share its cores unless told otherwise (--threads, OMP_NUM_THREADS)
+  if (o.threads == 0 && a.comm->size() > 1 && !std::getenv("OMP_NUM_THREADS"))
+    o.threads = std::max(1, int(std::thread::hardware_concurrency()) / std::max(1, a.comm->node_size()));
   o.restart = a.restart;
   o.command_line = a.argv;
   install_signal_handlers();

@@ -1,7 +1,10 @@
 #pragma once
 // The subcommands of `varsph`, each in its own file.
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "parallel/communicator.hpp"
 
 namespace varsph {
 
@@ -12,6 +15,7 @@ struct CommandArgs {
   std::vector<std::string> overrides;
   int threads = 0;
   bool overwrite = false, quiet = false;
+  std::shared_ptr<parallel::Communicator> comm;  // all ranks of the run (one: the serial program)
 };
 
 int command_run(const CommandArgs& a);

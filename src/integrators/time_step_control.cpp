@@ -40,8 +40,8 @@ CflLimits cfl_limits(const Simulation<D>& sim) {
     vmax = std::max(vmax, double(f.v[i].norm()));
     amax = std::max(amax, double(f.a[i].norm()));
   }
-  L.v_max = vmax;
-  L.a_max = amax;
+  L.v_max = sim.global_max(vmax);  // over every rank: all ranks take the same dt
+  L.a_max = sim.global_max(amax);
   const double h = s.h;
   L.acoustic = s.cfl_acoustic * h / (s.c0 + L.v_max);                // Monaghan 1992
   if (L.a_max > 0) L.force = s.cfl_force * std::sqrt(h / L.a_max);   // Monaghan 1992

@@ -17,6 +17,7 @@ namespace varsph::io {
 namespace {
 
 constexpr const char* kMagic = "varsph-checkpoint";
+constexpr const char* kPieceMagic = "varsph-checkpoint-piece";
 
 // Owns one HDF5 identifier (closed through the generic reference count).
 class Handle {
@@ -116,8 +117,17 @@ struct Writer {
   }
 };
 
-void write_file(const std::filesystem::path& tmp, const std::string& shown, const CheckpointHeader& h,
-                const ParticleStore& store) {
+// What one HDF5 file of a checkpoint holds: a whole checkpoint (header and particles), the manifest of
+// a checkpoint in pieces (header and the particle count of every piece) or one piece (particles).
+struct FileContent {
+  const CheckpointHeader* header = nullptr;         // whole checkpoint or manifest
+  const ParticleStore* store = nullptr;             // field list (and particles unless a manifest)
+  std::size_t count = 0;                            // particle rows written from the store
+  const std::vector<std::int64_t>* pieces = nullptr;  // manifest: particles per piece
+  int piece = -1;                                   // piece: its number
+};
+
+void write_file(const std::filesystem::path& tmp, const std::string& shown, const FileContent& c) {
   silence_hdf5();
   const Writer w{shown};
   Handle fapl(w.check_id(H5Pcreate(H5P_FILE_ACCESS), "file properties"));
@@ -126,34 +136,51 @@ void write_file(const std::filesystem::path& tmp, const std::string& shown, cons
   const hid_t fid = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
   if (fid < 0) w.fail("cannot create " + tmp.string());
   try {
-    {
-      const hid_t root = fid;
+    const hid_t root = fid;
+    const ParticleStore& store = *c.store;
+    std::string order;
+    for (const auto& f : store.fields())
+      if (f->flags().checkpointed) order += (order.empty() ? "" : "\n") + f->name();
+    if (c.header) {
+      const CheckpointHeader& h = *c.header;
       w.attr_string(root, "format", kMagic);
-      w.attr(root, "format_version", H5T_NATIVE_INT, h.format_version);
+      // a checkpoint in pieces is format 2 (older readers refuse it instead of misreading it)
+      const int version = c.pieces ? 2 : h.format_version;
+      w.attr(root, "format_version", H5T_NATIVE_INT, version);
       w.attr_string(root, "program_version", h.program_version);
       w.attr_string(root, "real", h.real_type);
       w.attr(root, "dimension", H5T_NATIVE_INT, h.dimension);
       w.attr(root, "step", H5T_NATIVE_INT64, h.step);
       w.attr(root, "time", H5T_NATIVE_DOUBLE, h.time);
       w.attr(root, "dt", H5T_NATIVE_DOUBLE, h.dt);
-      const std::int64_t n = std::int64_t(store.size());
+      std::int64_t n = std::int64_t(c.count);
+      if (c.pieces) {
+        n = 0;
+        for (auto k : *c.pieces) n += k;
+        w.attr(root, "pieces", H5T_NATIVE_INT, int(c.pieces->size()));
+      }
       w.attr(root, "particles", H5T_NATIVE_INT64, n);
       w.attr_string(root, "integrator", h.integrator);
-
       Handle meta(w.check_id(H5Gcreate2(fid, "meta", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "group meta"));
       w.text(meta.get(), "scene", h.scene.dump());
       w.text(meta.get(), "integrator_state", h.integrator_state.dump());
       w.text(meta.get(), "runner_state", h.runner_state.dump());
-
+      w.text(meta.get(), "field_order", order);
+      if (c.pieces)
+        w.dataset(meta.get(), "piece_particles", H5T_NATIVE_INT64, c.pieces->size(), 1, c.pieces->data());
+    } else {
+      w.attr_string(root, "format", kPieceMagic);
+      w.attr(root, "piece", H5T_NATIVE_INT, c.piece);
+      const std::int64_t n = std::int64_t(c.count);
+      w.attr(root, "particles", H5T_NATIVE_INT64, n);
+    }
+    if (!c.pieces) {
       Handle parts(
           w.check_id(H5Gcreate2(fid, "particles", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "group particles"));
-      std::string order;
       for (const auto& f : store.fields()) {
         if (!f->flags().checkpointed) continue;
-        order += (order.empty() ? "" : "\n") + f->name();
-        w.dataset(parts.get(), f->name(), native_type(f->scalar_type()), store.size(), f->components(), f->raw());
+        w.dataset(parts.get(), f->name(), native_type(f->scalar_type()), c.count, f->components(), f->raw());
       }
-      w.text(meta.get(), "field_order", order);
     }
     w.check(H5Fflush(fid, H5F_SCOPE_GLOBAL), "flushing");
   } catch (...) {
@@ -194,8 +221,10 @@ struct Reader {
     return s;
   }
   // Reads a dataset of rows x components scalars of the given type; returns rows.
+  // With take >= 0 only rows [first, first + take) are read (a rank's share of a checkpoint).
   std::vector<std::byte> dataset(hid_t group, const std::string& name, ScalarType type, std::int64_t rows,
-                                 int& components_out, bool is_text = false) const {
+                                 int& components_out, bool is_text = false, std::int64_t first = 0,
+                                 std::int64_t take = -1) const {
     if (H5Lexists(group, name.c_str(), H5P_DEFAULT) <= 0) fail("dataset '" + name + "' is missing");
     Handle d(check_id(H5Dopen2(group, name.c_str(), H5P_DEFAULT), "dataset '" + name + "' is unreadable"));
     Handle space(check_id(H5Dget_space(d.get()), name));
@@ -214,10 +243,22 @@ struct Reader {
     if (!is_text && ((cls == H5T_FLOAT) != want_float || (cls != H5T_FLOAT && cls != H5T_INTEGER) ||
                      fsize != scalar_bytes(type)))
       fail("dataset '" + name + "' has another scalar type than " + type_name(type));
-    const std::size_t count = std::size_t(dims[0]) * std::size_t(components_out);
+    if (take < 0) {
+      first = 0;
+      take = std::int64_t(dims[0]);
+    }
+    if (first < 0 || first + take > std::int64_t(dims[0])) fail("dataset '" + name + "' is shorter than expected");
+    const std::size_t count = std::size_t(take) * std::size_t(components_out);
     std::vector<std::byte> out(count * (is_text ? 1 : scalar_bytes(type)));
-    if (count > 0 &&
-        H5Dread(d.get(), is_text ? H5T_NATIVE_CHAR : native_type(type), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+    if (count == 0) return out;
+    Handle file_space(check_id(H5Dget_space(d.get()), name));
+    hsize_t start[2] = {hsize_t(first), 0}, size[2] = {hsize_t(take), dims[1]};
+    if (rank == 1) size[1] = 1;
+    if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr) < 0)
+      fail("dataset '" + name + "': cannot select rows");
+    Handle mem_space(check_id(H5Screate_simple(rank, size, nullptr), name));
+    if (H5Dread(d.get(), is_text ? H5T_NATIVE_CHAR : native_type(type), mem_space.get(), file_space.get(), H5P_DEFAULT,
+                out.data()) < 0)
       fail("dataset '" + name + "' is corrupted (checksum or read error)");
     return out;
   }
@@ -244,10 +285,49 @@ const CheckpointArray* Checkpoint::find(const std::string& name) const {
 }
 
 void write_checkpoint(const std::filesystem::path& path, const CheckpointHeader& header, const ParticleStore& store) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, path.string(), header, store); });
+  FileContent c;
+  c.header = &header;
+  c.store = &store;
+  c.count = store.size();
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, path.string(), c); });
 }
 
-Checkpoint read_checkpoint(const std::filesystem::path& path) {
+std::filesystem::path checkpoint_pieces_dir(const std::filesystem::path& manifest) {
+  return manifest.parent_path() / manifest.stem();
+}
+
+std::filesystem::path checkpoint_piece_path(const std::filesystem::path& manifest, int piece) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "piece_%06d.h5", piece);
+  return checkpoint_pieces_dir(manifest) / buf;
+}
+
+void write_checkpoint_piece(const std::filesystem::path& manifest, int piece, const ParticleStore& store,
+                            std::size_t count) {
+  FileContent c;
+  c.store = &store;
+  c.count = count;
+  c.piece = piece;
+  const auto path = checkpoint_piece_path(manifest, piece);
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, path.string(), c); });
+}
+
+void write_checkpoint_manifest(const std::filesystem::path& path, const CheckpointHeader& header,
+                               const ParticleStore& store, const std::vector<std::int64_t>& piece_counts) {
+  FileContent c;
+  c.header = &header;
+  c.store = &store;
+  c.pieces = &piece_counts;
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, path.string(), c); });
+}
+
+void remove_checkpoint(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+  std::filesystem::remove_all(checkpoint_pieces_dir(path), ec);
+}
+
+Checkpoint read_checkpoint(const std::filesystem::path& path, int part, int parts) {
   silence_hdf5();
   const Reader r{path.string()};
   std::error_code ec;
@@ -261,9 +341,9 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
   Checkpoint c;
   CheckpointHeader& h = c.header;
   h.format_version = r.attr<int>(fid, "format_version", H5T_NATIVE_INT);
-  if (h.format_version > kCheckpointFormatVersion)
+  if (h.format_version > kCheckpointPiecesFormatVersion)
     throw InputError(path.string() + ": checkpoint format version " + std::to_string(h.format_version) +
-                     " is newer than this program reads (" + std::to_string(kCheckpointFormatVersion) +
+                     " is newer than this program reads (" + std::to_string(kCheckpointPiecesFormatVersion) +
                      "); use the varsph version that wrote it (" + r.attr_string(fid, "program_version") + ")");
   if (h.format_version < 1) r.fail("format_version " + std::to_string(h.format_version));
   h.program_version = r.attr_string(fid, "program_version");
@@ -283,27 +363,79 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
   h.runner_state = r.json_text(meta.get(), "runner_state");
   const std::string order = r.text(meta.get(), "field_order");
 
-  if (H5Lexists(fid, "particles", H5P_DEFAULT) <= 0) r.fail("group 'particles' is missing");
-  Handle parts(r.check_id(H5Gopen2(fid, "particles", H5P_DEFAULT), "group 'particles' is unreadable"));
-  std::stringstream ss(order);
-  std::string name;
-  while (std::getline(ss, name)) {
-    if (name.empty()) continue;
-    Handle d(r.check_id(H5Dopen2(parts.get(), name.c_str(), H5P_DEFAULT), "dataset '" + name + "' is missing"));
-    Handle t(r.check_id(H5Dget_type(d.get()), name));
-    const H5T_class_t cls = H5Tget_class(t.get());
-    const std::size_t sz = H5Tget_size(t.get());
-    ScalarType st;
-    if (cls == H5T_FLOAT && sz == 8) st = ScalarType::Float64;
-    else if (cls == H5T_FLOAT && sz == 4) st = ScalarType::Float32;
-    else if (cls == H5T_INTEGER && sz == 8) st = ScalarType::Int64;
-    else if (cls == H5T_INTEGER && sz == 4) st = ScalarType::Int32;
-    else r.fail("dataset '" + name + "' has an unsupported scalar type");
-    CheckpointArray a;
-    a.name = name;
-    a.type = st;
-    a.bytes = r.dataset(parts.get(), name, st, h.particles, a.components);
-    c.arrays.push_back(std::move(a));
+  // this reader's share: rows [first, first + take) of the particles (all of them for part 0 of 1)
+  c.first_row = h.particles * part / parts;
+  c.rows = h.particles * (part + 1) / parts - c.first_row;
+  std::vector<std::string> names;
+  {
+    std::stringstream ss(order);
+    std::string name;
+    while (std::getline(ss, name))
+      if (!name.empty()) names.push_back(name);
+  }
+  // Appends rows [first, first + take) of every field in `group` (one file) to c.arrays.
+  auto read_rows = [&](const Reader& rd, hid_t group, std::int64_t expected_rows, std::int64_t first,
+                       std::int64_t take) {
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      const std::string& name = names[k];
+      Handle d(rd.check_id(H5Dopen2(group, name.c_str(), H5P_DEFAULT), "dataset '" + name + "' is missing"));
+      Handle t(rd.check_id(H5Dget_type(d.get()), name));
+      const H5T_class_t cls = H5Tget_class(t.get());
+      const std::size_t sz = H5Tget_size(t.get());
+      ScalarType st;
+      if (cls == H5T_FLOAT && sz == 8) st = ScalarType::Float64;
+      else if (cls == H5T_FLOAT && sz == 4) st = ScalarType::Float32;
+      else if (cls == H5T_INTEGER && sz == 8) st = ScalarType::Int64;
+      else if (cls == H5T_INTEGER && sz == 4) st = ScalarType::Int32;
+      else rd.fail("dataset '" + name + "' has an unsupported scalar type");
+      int comps = 1;
+      auto bytes = rd.dataset(group, name, st, expected_rows, comps, false, first, take);
+      if (k >= c.arrays.size()) {
+        CheckpointArray arr;
+        arr.name = name;
+        arr.type = st;
+        arr.components = comps;
+        c.arrays.push_back(std::move(arr));
+      }
+      CheckpointArray& arr = c.arrays[k];
+      if (arr.type != st || arr.components != comps) rd.fail("dataset '" + name + "' differs between pieces");
+      arr.bytes.insert(arr.bytes.end(), bytes.begin(), bytes.end());
+    }
+  };
+  if (H5Aexists(fid, "pieces") > 0) {
+    // a checkpoint in pieces (distributed run): the rows are the pieces' particles in piece order
+    const int pieces = r.attr<int>(fid, "pieces", H5T_NATIVE_INT);
+    if (pieces < 1) r.fail("attribute 'pieces' is " + std::to_string(pieces));
+    int one = 1;
+    const auto raw = r.dataset(meta.get(), "piece_particles", ScalarType::Int64, pieces, one);
+    std::vector<std::int64_t> counts(static_cast<std::size_t>(pieces));
+    if (pieces > 0) std::memcpy(counts.data(), raw.data(), raw.size());
+    std::int64_t begin = 0;
+    for (int k = 0; k < pieces; ++k) {
+      const std::int64_t end = begin + counts[std::size_t(k)];
+      const std::int64_t lo = std::max(begin, c.first_row), hi = std::min(end, c.first_row + c.rows);
+      // pieces holding some of this reader's rows; piece 0 also when there are none (field shapes)
+      if (lo < hi || (k == 0 && c.rows == 0)) {
+        const auto piece = checkpoint_piece_path(path, k);
+        const Reader pr{piece.string()};
+        if (H5Fis_hdf5(piece.c_str()) <= 0)
+          r.fail("piece " + std::to_string(k) + " (" + piece.string() + ") is missing or not an HDF5 file");
+        Handle pf(H5Fopen(piece.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+        if (!pf.ok()) pr.fail("HDF5 cannot open it (truncated or corrupted?)");
+        if (pr.attr_string(pf.get(), "format") != kPieceMagic) pr.fail("not a piece of a varsph checkpoint");
+        if (pr.attr<std::int64_t>(pf.get(), "particles", H5T_NATIVE_INT64) != counts[std::size_t(k)])
+          pr.fail("its particle count differs from the manifest's");
+        if (H5Lexists(pf.get(), "particles", H5P_DEFAULT) <= 0) pr.fail("group 'particles' is missing");
+        Handle g(pr.check_id(H5Gopen2(pf.get(), "particles", H5P_DEFAULT), "group 'particles' is unreadable"));
+        read_rows(pr, g.get(), counts[std::size_t(k)], lo < hi ? lo - begin : 0, std::max<std::int64_t>(hi - lo, 0));
+      }
+      begin = end;
+    }
+    if (begin != h.particles) r.fail("the pieces' particle counts do not add up to 'particles'");
+  } else {
+    if (H5Lexists(fid, "particles", H5P_DEFAULT) <= 0) r.fail("group 'particles' is missing");
+    Handle parts(r.check_id(H5Gopen2(fid, "particles", H5P_DEFAULT), "group 'particles' is unreadable"));
+    read_rows(r, parts.get(), h.particles, c.first_row, c.rows);
   }
   return c;
 }

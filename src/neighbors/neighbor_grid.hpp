@@ -46,6 +46,13 @@ class NeighborGrid {
   Vec<D> wrap_shift(const Vec<D>& x) const;
 
   const std::vector<CellBlock>& blocks() const { return blocks_; }
+  // Distributed runs (src/parallel/domain.cpp): blocks over owned particles and ranges over owned and
+  // ghost particles, built by the decomposition layer for this grid's cells; swapped in (the arguments
+  // get the previous vectors back, for reuse).
+  void set_topology(std::vector<CellBlock>& blocks, std::vector<NeighborRange>& ranges) {
+    blocks_.swap(blocks);
+    ranges_.swap(ranges);
+  }
   const std::vector<NeighborRange>& ranges() const { return ranges_; }
   const Vec<D>& shift(std::uint32_t id) const { return shifts_[id]; }
   Real cell_size(int axis) const { return cell_[axis]; }

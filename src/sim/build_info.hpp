@@ -10,7 +10,8 @@ inline nlohmann::json build_info() {
           {"native", bool(VARSPH_NATIVE_BUILD)},
           {"build_type", VARSPH_BUILD_TYPE},
           {"compiler", __VERSION__},
-          {"openmp", _OPENMP}};
+          {"openmp", _OPENMP},
+          {"mpi", bool(VARSPH_MPI_BUILD)}};
 }
 
 }  // namespace varsph

@@ -5,6 +5,7 @@
 
 #include "core/errors.hpp"
 #include "kernels/kernel_eval.hpp"
+#include "parallel/communicator.hpp"
 #include "scene/json_reader.hpp"
 
 namespace varsph {
@@ -89,6 +90,12 @@ double Probes<D>::pressure_at(const Simulation<D>& sim, const Vec<D>& x) const {
     num += w * double(f.p[j]);
     den += w;
   }
+  if (sim.distributed()) {  // sums over every rank's particles
+    double nd[2] = {num, den};
+    sim.comm().sum(nd);
+    num = nd[0];
+    den = nd[1];
+  }
   return den > 0 ? num / den : 0.0;
 }
 
@@ -114,16 +121,22 @@ double Probes<D>::water_height(const Simulation<D>& sim, const ProbeSpec& p) con
   const double step = sc.spacing / 4;
   const double y0 = p.point[D - 1];
   const long m = long(std::ceil((p.top - y0) / step));
-  double h = 0, prev_phi = 0, prev_y = y0;
+  std::vector<double> phis(std::size_t(m + 1), 0.0);
   for (long k = 0; k <= m; ++k) {
-    const double y = std::min(y0 + double(k) * step, p.top);
     Vec<D> x = base;
-    x[D - 1] = Real(y);
+    x[D - 1] = Real(std::min(y0 + double(k) * step, p.top));
     double phi = 0;
     for (std::size_t j : near) {
       const Real r = (x - f.x[j]).norm();
       if (r < rc) phi += double(f.mass[j]) / double(f.rho[j]) * double(W(r).w);
     }
+    phis[std::size_t(k)] = phi;
+  }
+  if (sim.distributed()) sim.comm().sum(phis);  // sums over every rank's particles
+  double h = 0, prev_phi = 0, prev_y = y0;
+  for (long k = 0; k <= m; ++k) {
+    const double y = std::min(y0 + double(k) * step, p.top);
+    const double phi = phis[std::size_t(k)];
     if (k > 0 && prev_phi >= 0.5 && phi < 0.5) h = prev_y + (prev_phi - 0.5) / (prev_phi - phi) * (y - prev_y) - y0;
     if (k == m && phi >= 0.5) h = y - y0;  // filled to the top of the line
     prev_phi = phi;
@@ -148,10 +161,10 @@ std::vector<double> Probes<D>::sample(const Simulation<D>& sim) {
       double xf = -std::numeric_limits<double>::infinity();
       for (std::size_t i = 0; i < sim.size(); ++i)
         if (f.kind[i] == 0) xf = std::max(xf, double(f.x[i][0]));
-      out.push_back(xf);
+      out.push_back(sim.global_max(xf));
     } else if (p.type == "force") {
       if (!forces_done) {  // one reaction pass for all force probes
-        force_.assign(sim.size(), Vec<D>::Zero());
+        force_.assign(sim.store().size(), Vec<D>::Zero());  // the pass may touch ghost slots
         sim.rates().boundary_reaction(sim.grid(), sim.current_view(), force_.data());
         forces_done = true;
       }
@@ -167,6 +180,10 @@ std::vector<double> Probes<D>::sample(const Simulation<D>& sim) {
         M[0] += ri[1] * fi[2] - ri[2] * fi[1];
         M[1] += ri[2] * fi[0] - ri[0] * fi[2];
         M[2] += ri[0] * fi[1] - ri[1] * fi[0];
+      }
+      if (sim.distributed()) {  // sums over every rank's boundary particles
+        sim.comm().sum(F);
+        sim.comm().sum(M);
       }
       for (int a = 0; a < D; ++a) out.push_back(F[a]);
       if (D == 2) out.push_back(M[2]);

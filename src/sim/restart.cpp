@@ -26,7 +26,7 @@ bool starts_with(const std::string& s, const std::string& p) { return s.compare(
 bool restart_may_change(const std::string& k) {
   return k == "time.end" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
          starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
-         starts_with(k, "log.");
+         starts_with(k, "log.") || k == "parallel" || starts_with(k, "parallel.");
 }
 
 std::string first_physics_difference(const nlohmann::json& a, const nlohmann::json& b) {
@@ -73,9 +73,9 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
                      was + ", scene: " + now + "); only time.end, output.*, checkpoint.*, probes and log.* may "
                      "change on restart");
   }
-  if (std::size_t(h.particles) != sim.size())
+  if (const std::int64_t built = sim.global_count(); h.particles != built)
     throw InputError(where + "checkpoint has " + std::to_string(h.particles) + " particles, the scene builds " +
-                     std::to_string(sim.size()));
+                     std::to_string(built));
   if (h.integrator != sim.integrator().name())
     throw InputError(where + "checkpoint was written by the '" + h.integrator + "' integrator, the scene uses '" +
                      sim.integrator().name() + "'");
@@ -85,9 +85,12 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
     const io::CheckpointArray* a = c.find(f->name());
     if (!a) throw InputError(where + "particle field '" + f->name() + "' is missing from the checkpoint");
     if (a->type != f->scalar_type() || a->components != f->components() ||
-        a->bytes.size() != f->bytes_per_particle() * sim.size())
+        a->bytes.size() != f->bytes_per_particle() * std::size_t(c.rows))
       throw InputError(where + "particle field '" + f->name() + "' has another type or shape in the checkpoint");
   }
+  // this process's rows of the checkpoint (all of them in one process; a share in a distributed run,
+  // which the sort below sends to their owners)
+  sim.adopt_rows(std::size_t(c.rows), c.first_row);
   for (const auto& f : sim.store().fields()) {
     if (!f->flags().checkpointed) continue;
     const io::CheckpointArray* a = c.find(f->name());
@@ -110,7 +113,7 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
   h.step = sim.step();
   h.time = sim.time();
   h.dt = sim.dt();
-  h.particles = std::int64_t(sim.size());
+  h.particles = sim.global_count();
   h.scene = sim.scene().resolved;
   auto& integ = sim.integrator();
   h.integrator = integ.name();
@@ -122,6 +125,8 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
 template <int D>
 void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_state) {
   const auto& fields = sim.store().fields();
+  stored_ = sim.store().size();  // owned particles and, in a distributed run, ghosts
+  owned_ = sim.size();
   buffers_.resize(fields.size());
   for (std::size_t k = 0; k < fields.size(); ++k) {
     const auto& f = fields[k];
@@ -140,6 +145,8 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
 
 template <int D>
 void StateSnapshot<D>::restore(Simulation<D>& sim) const {
+  // a distributed step may have moved particles between ranks: back to the captured rows
+  sim.store().resize(stored_);
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
@@ -149,6 +156,10 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
   sim.set_clock(time_, step_);
   sim.set_dt(dt_);
   sim.integrator().restore_state(integrator_state_);
+  if (sim.distributed()) {  // owned rows back in place, ghosts and grid rebuilt for them (collective)
+    sim.adopt_rows(owned_, 0);
+    sim.rebin();
+  }
 }
 
 template <int D>

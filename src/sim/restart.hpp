@@ -47,6 +47,7 @@ class StateSnapshot {
   std::vector<std::vector<std::byte>> buffers_;
   double time_ = 0, dt_ = 0;
   long step_ = 0;
+  std::size_t stored_ = 0, owned_ = 0;
   nlohmann::json integrator_state_, runner_state_;
   bool valid_ = false;
 };

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/errors.hpp"
+#include "parallel/communicator.hpp"
+#include "parallel/domain.hpp"
+#include "parallel/halo_rates.hpp"
 #include "physics/pair_loop.hpp"
 #include "integrators/time_step_control.hpp"
 #include "physics/corrections/corrections.hpp"
@@ -68,8 +72,9 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
 }  // namespace
 
 template <int D>
-Simulation<D>::Simulation(const scene::Scene& scene)
-    : scene_(scene), f_(store_), params_(params_from<D>(scene)), eos_(Real(scene.rho0), Real(scene.c0), Real(scene.background_pressure)) {
+Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::Communicator> comm)
+    : scene_(scene), f_(store_), params_(params_from<D>(scene)), eos_(Real(scene.rho0), Real(scene.c0), Real(scene.background_pressure)),
+      comm_(comm ? std::move(comm) : std::make_shared<parallel::SerialCommunicator>()) {
   if (scene.dimension != D) throw std::logic_error("scene dimension does not match Simulation<D>");
   rates_ = physics::make_rates<D>(params_);
 
@@ -105,6 +110,29 @@ Simulation<D>::Simulation(const scene::Scene& scene)
     motion_->capture_reference(f_.x, f_.normal);
   }
   integrator_ = make_integrator<D>(scene);
+  if (comm_->size() > 1) {
+    // distributed: every rank built every particle (the same, deterministically); rank r keeps rows
+    // [n r / P, n (r+1) / P) in id order, and the first sort_and_bin() moves them to their owners
+    parallel::DomainOptions o;
+    o.fluid_weight = scene.fluid_weight;
+    o.boundary_weight = scene.boundary_weight;
+    o.threshold = scene.rebalance_threshold;
+    o.check_every = scene.rebalance_check_every;
+    o.force_every = scene.rebalance_every;
+    domain_ = std::make_unique<parallel::Domain<D>>(comm_, o);
+    domain_->attach(store_, {"position", "velocity", "density", "pressure", "mass", "kind", "id", "normal", "body",
+                             "wall_velocity"});
+    const std::size_t P = std::size_t(comm_->size()), r = std::size_t(comm_->rank());
+    const std::size_t first = n * r / P, last = n * (r + 1) / P;
+    for (const auto& fb : store_.fields()) {
+      const std::size_t b = fb->bytes_per_particle();
+      auto* raw = static_cast<std::byte*>(fb->raw());
+      if (last > first) std::memmove(raw, raw + first * b, (last - first) * b);
+    }
+    store_.resize(last - first);
+    domain_->adopt(store_, std::int64_t(first));
+    rates_ = std::make_unique<parallel::HaloRates<D>>(std::move(rates_), *domain_);
+  }
   // shifting moves particles by at most max_shift dx after the sort; a skin of twice that keeps the grid
   // valid for the shifted configuration (density update, next step's forces) without a second sort
   set_skin(rates_->shifting_enabled() ? Real(2) * params_.shifting.max_shift * params_.dx : Real(0));
@@ -116,6 +144,50 @@ Simulation<D>::Simulation(const scene::Scene& scene)
   update_pressure();
   dt_ = scene.dt ? *scene.dt : cfl_dt();
   integrator_->initialize(*this);
+}
+
+template <int D>
+Simulation<D>::~Simulation() = default;
+
+template <int D>
+std::size_t Simulation<D>::ghosts() const {
+  return domain_ ? domain_->ghosts() : 0;
+}
+
+template <int D>
+double Simulation<D>::global_max(double v) const {
+  return comm_->max(v);
+}
+
+template <int D>
+double Simulation<D>::global_sum(double v) const {
+  return comm_->sum(v);
+}
+
+template <int D>
+std::int64_t Simulation<D>::global_count() const {
+  return comm_->sum(std::int64_t(size()));
+}
+
+template <int D>
+std::unique_ptr<physics::Rates<D>> Simulation<D>::make_rates(const physics::PhysicsParams<D>& p) {
+  auto r = physics::make_rates<D>(p);
+  if (domain_) return std::make_unique<parallel::HaloRates<D>>(std::move(r), *domain_);
+  return r;
+}
+
+template <int D>
+void Simulation<D>::refresh_halo(const physics::ParticleView<D>& view) {
+  if (!domain_) return;
+  std::vector<parallel::HaloArray> arrays;
+  parallel::refresh_view(*domain_, view, parallel::kHaloPositions | parallel::kHaloVelocities | parallel::kHaloState,
+                         arrays);
+}
+
+template <int D>
+void Simulation<D>::adopt_rows(std::size_t n, std::int64_t first_row) {
+  store_.resize(n);
+  if (domain_) domain_->adopt(store_, first_row);
 }
 
 template <int D>
@@ -150,6 +222,15 @@ template <int D>
 void Simulation<D>::sort_and_bin() {
   // moving walls take their place in the new configuration (time t + dt) before binning
   if (motion_ && motion_->active()) move_boundaries(time_ + dt_);
+  rebin();
+}
+
+template <int D>
+void Simulation<D>::rebin() {
+  if (domain_) {  // migrate, order as one process would, ghosts, grid (parallel/domain.hpp)
+    domain_->rebin(store_, grid_, position_like_);
+    return;
+  }
   auto& x = f_.x.data;
   bool any_periodic = false;
   for (int a = 0; a < D; ++a) any_periodic |= scene_.periodic[a];
@@ -188,7 +269,7 @@ void Simulation<D>::apply_shifting() {
   rates_->shifting(grid_, current_view(), Real(dt_), dr);
   Vec<D>* x = f_.x.data.data();
   const std::int32_t* kind = f_.kind.data.data();
-  for_each_particle(store_.size(), [&](std::size_t i) {
+  for_each_particle(size(), [&](std::size_t i) {
     if (kind[i] == 0) x[i] += dr[i];  // positions only: velocities, masses, momentum unchanged
   });
 }
@@ -215,7 +296,7 @@ void Simulation<D>::update_density_after_move(Real dt) {
     Real* rho = f_.rho.data.data();
     const std::int32_t* kind = f_.kind.data.data();
     const bool walls = params_.boundary == physics::BoundaryModel::Dynamic;
-    for_each_particle(store_.size(), [&](std::size_t i) {
+    for_each_particle(size(), [&](std::size_t i) {
       if (kind[i] == 0 || walls) rho[i] += dt * drho[i];
     });
   }
@@ -237,8 +318,10 @@ template <int D>
 const StepReport& Simulation<D>::advance() {
   if (motion_->active()) move_boundaries(time_);  // walls at t_k for the forces of this step
   rates_->set_time(time_);  // gravity ramp, damping window
+  if (domain_) domain_->step_begin();
   report_ = integrator_->step(*this);
   ++step_;
+  if (domain_) domain_->step_end(step_);  // load balance: may schedule a repartition for the next sort
   // fixed dt: t = t0 + k dt exactly as two runs with the same dt compute it (frames match by time)
   time_ += dt_;
   if (scene_.shepard_reinit_every > 0 && step_ % scene_.shepard_reinit_every == 0) reinitialise_density();
@@ -248,13 +331,14 @@ const StepReport& Simulation<D>::advance() {
 template <int D>
 void Simulation<D>::reinitialise_density() {
   rho_scratch_.resize(store_.size());
+  refresh_halo(current_view());  // Shepard sums read the neighbours' positions, masses and densities
   const auto o = physics::corrections::Options::of(params_);
   physics::corrections::shepard_density<D>(grid_, current_view(), o, rho_scratch_);
   Real* rho = f_.rho.data.data();
   const std::int32_t* kind = f_.kind.data.data();
   const Real* out = rho_scratch_.data();
   // fluid particles only: wall densities (dynamic model) keep their own continuity evolution
-  for_each_particle(store_.size(), [&](std::size_t i) {
+  for_each_particle(size(), [&](std::size_t i) {
     if (kind[i] == 0) rho[i] = out[i];
   });
   update_pressure();

@@ -20,6 +20,12 @@
 
 namespace varsph {
 
+namespace parallel {
+class Communicator;
+template <int D>
+class Domain;
+}  // namespace parallel
+
 template <int D>
 class Simulation;
 
@@ -57,7 +63,9 @@ std::unique_ptr<Integrator<D>> make_integrator(const scene::Scene& s);
 template <int D>
 class Simulation {
  public:
-  explicit Simulation(const scene::Scene& scene);
+  // `comm`: the ranks of a distributed run (parallel/session.hpp); null or one rank runs the serial code.
+  explicit Simulation(const scene::Scene& scene, std::shared_ptr<parallel::Communicator> comm = nullptr);
+  ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
@@ -76,7 +84,10 @@ class Simulation {
   long step() const { return step_; }
   double dt() const { return dt_; }
   std::size_t count(std::int32_t kind) const;
-  std::size_t size() const { return store_.size(); }
+  // Particles this process owns (all of them in one process): integrators and reductions loop over
+  // [0, size()); a distributed run keeps ghost copies of other ranks' particles after them in the store.
+  std::size_t size() const { return store_.size() - ghosts(); }
+  std::size_t ghosts() const;
 
   // One step of the integrator; updates time, step and the step report.
   const StepReport& advance();
@@ -87,6 +98,8 @@ class Simulation {
   // the neighbour grid. `extra_skin` enlarges the cells so the grid stays valid while particles move
   // less than extra_skin / 2 (the variational iterations reuse it).
   void sort_and_bin();
+  // The same without moving walls: wraps, sorts and bins the particles where they are.
+  void rebin();
   // Extra shift applied to position-like fields (previous positions) when wrapping periodically.
   void register_position_like(Field<Vec<D>>* f) { position_like_.push_back(f); }
   void set_skin(Real skin);
@@ -117,6 +130,24 @@ class Simulation {
   // Restores time/step counters (restart).
   void set_clock(double time, long step) { time_ = time; step_ = step; }
 
+  // --- distributed runs (src/parallel/; in one process these are identities) -----------------------
+  // Integrators and output reduce through these instead of calling MPI: every rank gets the result.
+  bool distributed() const { return domain_ != nullptr; }
+  parallel::Communicator& comm() const { return *comm_; }
+  parallel::Domain<D>* domain() { return domain_.get(); }
+  double global_max(double v) const;
+  double global_sum(double v) const;
+  std::int64_t global_count() const;  // particles on all ranks
+  // Rates for other parameters (the variational integrator's wall-free passes), with the halo
+  // exchange of a distributed run in front of every pass.
+  std::unique_ptr<physics::Rates<D>> make_rates(const physics::PhysicsParams<D>& p);
+  // Owners' positions, velocities, densities and pressures of a view into the ghosts (for a pair loop
+  // run outside the Rates passes); no-op in one process.
+  void refresh_halo(const physics::ParticleView<D>& view);
+  // The store now holds `n` particles that are rows [first_row, first_row + n) of a checkpoint (or of a
+  // captured state) and no ghosts; the next sort_and_bin() partitions them anew. Restart and blow-up.
+  void adopt_rows(std::size_t n, std::int64_t first_row);
+
  private:
   scene::Scene scene_;
   ParticleStore store_;
@@ -138,6 +169,8 @@ class Simulation {
   double time_ = 0, dt_ = 0;
   long step_ = 0;
   StepReport report_;
+  std::shared_ptr<parallel::Communicator> comm_;  // one rank: a SerialCommunicator
+  std::unique_ptr<parallel::Domain<D>> domain_;   // null in one process
 };
 
 }  // namespace varsph
