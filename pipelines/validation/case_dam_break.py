@@ -6,7 +6,7 @@ that Z = 1 at t = 0 as in the experiment; x measured from the back wall x = 0), 
 Metric: RMS over the reference points with 0.8 <= T <= 3.0 of (Z_sim(T_i + dT) - Z_i) / Z_i, unshifted
 (dT = 0) and at the best dT in [-0.3, 0.3] (Z_sim linearly interpolated in T); the front at T = 2 and 3.
 
-  /usr/bin/python3 pipelines/validation/case_dam_break.py [--dx 0.005] [--set KEY=VALUE]... [--threads 2]
+  /usr/bin/python3 pipelines/validation/case_dam_break.py [--dx 0.005] [--scene FILE] [--setup FILE] [--set KEY=VALUE]...
       [--check-rms-shift 0.05]   # exit 1 if the best-shift RMS is larger (CTest)
 """
 import argparse
@@ -19,6 +19,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import vcommon as vc  # noqa: E402
+import vsetup  # noqa: E402
 
 SCENE = os.path.join(vc.HERE, "dam_break_mm.json")
 SCENE_WENDLAND = os.path.join(vc.HERE, "dam_break_mm_wendland.json")
@@ -100,11 +101,16 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("-o", "--outdir")
     ap.add_argument("--scene", default=SCENE)
+    ap.add_argument("--setup", help="scene file whose kernel/fluid/physics/boundary/integrator/health blocks are used")
     ap.add_argument("--check-rms-shift", type=float)
     ap.add_argument("--check-rms", type=float)
     a = ap.parse_args()
     sets = dict(kv.split("=", 1) for kv in a.set)
-    res = run_case(a.dx, sets, a.threads, a.outdir, a.scene)
+    scene = a.scene
+    if a.setup:
+        out = a.outdir or os.path.join(vc.ROOT, "runs", "validation", f"dam_break_dx{a.dx:g}")
+        scene = vsetup.scene_with_setup(scene, a.setup, os.path.abspath(out).rstrip("/") + "_scene.json")
+    res = run_case(a.dx, sets, a.threads, a.outdir, scene)
     print(json.dumps(res, indent=1))
     if res["rc"] != 0:
         print(f"FAIL: varsph exited {res['rc']}: {res['message']}")

@@ -7,13 +7,15 @@ Metrics (from probes.csv, diagnostics.csv and the last frame):
   p_err_tait   the same against the compressible column (Tait EOS, gamma 7) carrying the particles' mass
            (H_mass = sum m / (rho0 W), floor at y = 0): p_ref = g x (mass above y per unit width)
   p_err_hmeas  the same against rho0 g (h - y), h the water height measured by the centre probe (same window)
+  p_wall_err_max  the wall pressure of issue 13: max over the eight depths of |p - rho0 g (H - y)| / (rho0 g (H - y))
+           for the probes on the right wall x = 0.4 m (wall_yNNN, same window); p_wall_err its L2 form
   drift    free-surface drift: mean water height (centre probe) over the last 10 % minus its mean over
            0.1 t_end ... 0.2 t_end (after the start-up transient) [m]; also h_end - H
   escaped  fluid particles of the last frame outside the tank [0, 0.4] x [0, inf) (or NaN positions)
   rho_err  largest |rho/rho0 - 1| of diagnostics.csv over the run
 
   /usr/bin/python3 pipelines/validation/case_hydrostatic.py [--dx 0.01] [--t-end 10] [--settle] [--set K=V]...
-      [--check-p 0.05 --check-drift 0.005]
+      [--scene FILE] [--setup FILE] [--check-p 0.05 --check-drift 0.005] [--check-wall 0.01]
 """
 import argparse
 import json
@@ -24,6 +26,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import vcommon as vc  # noqa: E402
+import vsetup  # noqa: E402
 
 SCENE = os.path.join(vc.HERE, "hydrostatic_tank.json")
 H, RHO0, G, WIDTH = 0.3, 1000.0, 9.81, 0.4
@@ -95,6 +98,9 @@ def evaluate(rundir, t_end):
         num += (pm - pe) ** 2
         den += pe ** 2
         errs.append((y, pm, pe))
+    wall = [(int(k[len("p_wall_y"):]) / 1000.0, float(np.mean(p[k][late]))) for k in p if k.startswith("p_wall_y")]
+    wall_ref = np.array([RHO0 * G * (H - y) for y, _ in wall])
+    wall_p = np.array([v for _, v in wall])
     h = p["h_centre"]
     early = (t >= 0.1 * t_end) & (t <= 0.2 * t_end)
     end = t >= 0.9 * t_end
@@ -113,6 +119,9 @@ def evaluate(rundir, t_end):
             "p_err_tait": float(np.linalg.norm(pm - pt) / np.linalg.norm(pt)),
             "p_err_hmeas": float(np.linalg.norm(pm - ph) / np.linalg.norm(ph)),
             "p_bias_pa": float(np.mean(pm - pt)), "tait_height": Hc, "h_late": h_late, "H_mass": H_mass,
+            "p_wall_err_max": float(np.max(np.abs(wall_p / wall_ref - 1))) if wall else float("nan"),
+            "p_wall_err": float(np.linalg.norm(wall_p - wall_ref) / np.linalg.norm(wall_ref)) if wall else float("nan"),
+            "p_wall_dev_rel": [round(float(a / b - 1), 5) for a, b in zip(wall_p, wall_ref)],
             "p_dev_tait_pa": [round(float(a - b), 2) for a, b in zip(pm, pt)],
             "p_dev_hmeas_pa": [round(float(a - b), 2) for a, b in zip(pm, ph)],
             "drift": float(np.mean(h[end]) - np.mean(h[early])),
@@ -162,8 +171,16 @@ def main():
     ap.add_argument("--check-p", type=float)
     ap.add_argument("--settle", action="store_true", help="consistent start: rho0, gravity ramp, damping (SETTLE)")
     ap.add_argument("--check-drift", type=float)
+    ap.add_argument("--check-wall", type=float, help="bound on the largest relative wall-pressure error over the depths")
+    ap.add_argument("--scene", default=SCENE)
+    ap.add_argument("--setup", help="scene file whose kernel/fluid/physics/boundary/integrator/health blocks are used")
     a = ap.parse_args()
-    res = run_case(a.dx, dict(kv.split("=", 1) for kv in a.set), a.threads, a.outdir, a.t_end, settle=a.settle)
+    scene = a.scene
+    if a.setup:
+        out = a.outdir or os.path.join(vc.ROOT, "runs", "validation", f"hydrostatic_dx{a.dx:g}_t{a.t_end:g}")
+        scene = vsetup.scene_with_setup(scene, a.setup, os.path.abspath(out).rstrip("/") + "_scene.json")
+    res = run_case(a.dx, dict(kv.split("=", 1) for kv in a.set), a.threads, a.outdir, a.t_end, scene=scene,
+                   settle=a.settle)
     print(json.dumps(res, indent=1))
     if res["rc"] != 0:
         print(f"FAIL: varsph exited {res['rc']}: {res['message']}")
@@ -173,6 +190,8 @@ def main():
         bad.append(f"pressure error {res['p_err']:.4f} > {a.check_p}")
     if a.check_drift is not None and not abs(res["drift"]) <= a.check_drift:
         bad.append(f"free-surface drift {res['drift']:.5f} m > {a.check_drift}")
+    if a.check_wall is not None and not res["p_wall_err_max"] <= a.check_wall:
+        bad.append(f"wall pressure error {res['p_wall_err_max']:.4f} > {a.check_wall}")
     if res["escaped"] != 0:
         bad.append(f"{res['escaped']} fluid particles outside the tank")
     if bad:

@@ -46,7 +46,7 @@ VariationalIntegrator<D>::VariationalIntegrator(const scene::Scene& s)
   summation_ = s.density == "summation";
   // alpha = 0: a1 sits at q_k; it still depends on q_{k+1} through the viscosity (midpoint velocity
   // (q_{k+1} - q_k)/dt) and the continuity density (eq. 67), so only this case is explicit.
-  const bool viscous = s.artificial_viscosity && (s.av_alpha > 0 || s.av_beta > 0);
+  const bool viscous = s.riemann || (s.artificial_viscosity && (s.av_alpha > 0 || s.av_beta > 0));
   explicit_ = alpha_ == 1.0 || (alpha_ == 0.0 && summation_ && !viscous);
 }
 

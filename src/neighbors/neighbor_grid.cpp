@@ -86,6 +86,7 @@ Vec<D> NeighborGrid<D>::wrap_shift(const Vec<D>& x) const {
 
 template <int D>
 void NeighborGrid<D>::build(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm) {
+  local_ = false;
   if (opt_.hashed) build_hashed(x, perm);
   else build_uniform(x, perm);
 }
@@ -205,16 +206,6 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
   }
 }
 
-namespace {
-inline std::uint64_t hash_coord(const std::int64_t* c, int d) {
-  // Teschner et al. 2003 spatial hash primes
-  static constexpr std::uint64_t primes[3] = {73856093ULL, 19349663ULL, 83492791ULL};
-  std::uint64_t h = 0;
-  for (int a = 0; a < d; ++a) h ^= std::uint64_t(c[a]) * primes[a];
-  return h;
-}
-}  // namespace
-
 template <int D>
 void NeighborGrid<D>::build_hashed(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm) {
   const std::size_t n = x.size();
@@ -223,7 +214,7 @@ void NeighborGrid<D>::build_hashed(std::span<const Vec<D>> x, std::vector<std::u
   key_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     coords_[i] = coord_of(x[i]);
-    key_[i] = hash_coord(coords_[i].data(), D) & (n_buckets - 1);
+    key_[i] = hash_coord(coords_[i]) & (n_buckets - 1);
   }
   count_.assign(n_buckets + 1, 0);
   for (std::size_t i = 0; i < n; ++i) ++count_[key_[i] + 1];
@@ -263,7 +254,7 @@ void NeighborGrid<D>::build_hashed(std::span<const Vec<D>> x, std::vector<std::u
         nc[a] = c[a] + (t % 3 - 1);
         t /= 3;
       }
-      const std::uint64_t b = hash_coord(nc.data(), D) & (n_buckets - 1);
+      const std::uint64_t b = hash_coord(nc) & (n_buckets - 1);
       for (std::uint32_t q = bucket_start_[b]; q < bucket_start_[b + 1]; ++q)
         if (coords_[perm[blocks_[q].begin]] == nc)
           ranges_.push_back({blocks_[q].begin, blocks_[q].end, shift_id(no_wrap)});

@@ -513,7 +513,7 @@ void Domain<D>::build_topology(std::span<const Vec<D>> x, NeighborGrid<D>& grid)
     if (have) ranges_.push_back(pending);
     blk.nbr_end = std::uint32_t(ranges_.size());
   }
-  grid.set_topology(blocks_, ranges_);
+  grid.set_topology(blocks_, ranges_, wlo, wext, window_);
 }
 
 template <int D>

@@ -66,6 +66,8 @@ class Domain {
   Communicator& comm() { return *comm_; }
   const std::shared_ptr<Communicator>& comm_ptr() const { return comm_; }
   std::size_t owned() const { return owned_; }
+  // True when x lies in a cell of this rank's box (the rank that computes a point query: probes).
+  bool owns(const Vec<D>& x) const { return box_.contains(cell_of(x)); }
   std::size_t ghosts() const { return ghosts_; }
   const Partition<D>& partition() const { return partition_; }
   const DomainStats& stats() const { return stats_; }

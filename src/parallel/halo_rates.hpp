@@ -32,6 +32,7 @@ void refresh_view(Domain<D>& domain, const physics::ParticleView<D>& s, int what
     add(s.rho);
     add(s.p);
     add(s.wall_v);
+    add(s.normal);  // moving extrapolated walls turn their normals (read by the wall part of AV)
   }
   domain.refresh(a);
 }

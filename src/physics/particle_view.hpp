@@ -20,6 +20,9 @@ struct ParticleView {
   // Velocities boundary particles show to viscosity (dummy/Adami walls: 2 v_wall - v_extrapolated);
   // empty = use v (walls at their prescribed velocity).
   std::span<const Vec<D>> wall_v = {};
+  // Unit wall normals into the fluid (boundary particles), for the wall part of artificial viscosity
+  // of extrapolated walls; empty = not used.
+  std::span<const Vec<D>> normal = {};
   std::size_t size() const { return x.size(); }
 };
 

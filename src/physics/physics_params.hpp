@@ -3,6 +3,7 @@
 #include "core/real.hpp"
 #include "kernels/kernel_type.hpp"
 #include "physics/shifting.hpp"
+#include "physics/wall_mdbc_mode.hpp"
 
 namespace varsph::physics {
 
@@ -12,6 +13,7 @@ enum class BoundaryModel {
   Dynamic,        // dynamic boundary particles (Crespo et al. 2007): walls take part in continuity and pressure
   DummyAdami,     // dummy particles, pressure and velocity extrapolated from the fluid (Adami et al. 2012)
   SoftRepulsive,  // DummyAdami plus the soft repulsive force of Chalk et al. 2020 (foundation notes)
+  Mdbc,           // modified dynamic boundary condition (English et al. 2022): ghost-node extrapolation
 };
 enum class WallSlip { NoSlip, FreeSlip };
 enum class DensityDiffusion { None, Molteni, Fourtakas };
@@ -36,7 +38,8 @@ struct PhysicsParams {
   int wall_n1 = 12, wall_n2 = 4;
 
   // --- toolbox terms: each off unless the scene names it -------------------------------------
-  WallSlip wall_slip = WallSlip::NoSlip;  // dummy_adami / soft_repulsive wall velocity rule
+  WallSlip wall_slip = WallSlip::NoSlip;  // dummy_adami / soft_repulsive / mdbc wall velocity rule
+  MdbcExtrapolation mdbc_extrapolation = MdbcExtrapolation::Gradient;
   Real soft_wall_coef = Real(0.01);       // Chalk 2020: force scale = coef c0^2
   bool laminar_viscosity = false;
   Real nu = 0;                            // kinematic viscosity [m^2/s] (Morris et al. 1997)
@@ -46,6 +49,8 @@ struct PhysicsParams {
   Real damping_mu = 0, damping_until = 0;  // F = -mu v [1/s] while t < until [s]
   Real gravity_ramp = 0;                   // ramp duration [s]; 0 = off
   DensityDiffusion diffusion = DensityDiffusion::None;
+  bool riemann = false;   // Zhang, Hu & Adams 2017 dissipation in place of artificial viscosity + delta-SPH
+  Real riemann_eta = 3;   // slope of the low-dissipation limiter beta = min(eta u_a / c0, 1)
   Real diffusion_delta = Real(0.1);
   TensileFix tensile = TensileFix::None;
   Real as_eps = Real(0.2);  // Monaghan 2000 artificial stress epsilon

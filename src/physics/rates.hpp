@@ -8,6 +8,7 @@
 #include "neighbors/neighbor_grid.hpp"
 #include "physics/particle_view.hpp"
 #include "physics/physics_params.hpp"
+#include "physics/wall_geometry.hpp"
 
 namespace varsph::physics {
 
@@ -40,9 +41,9 @@ class Rates {
   virtual void set_time(double) {}
   // Body acceleration in use now: ramped gravity + physics.body_force [m/s^2].
   virtual Vec<D> body_acceleration() const = 0;
-  // Dummy (Adami) walls: writes p, rho and the viscous wall velocity of boundary particles from the
-  // fluid. Returns false (and writes nothing) for wall models without extrapolation.
-  virtual bool update_walls(const NeighborGrid<D>&, const ParticleView<D>&, const Vec<D>* /*normal*/,
+  // Walls extrapolated from the fluid (Adami dummy walls, mDBC): writes p, rho and the viscous wall
+  // velocity of boundary particles. Returns false (and writes nothing) for the other wall models.
+  virtual bool update_walls(const NeighborGrid<D>&, const ParticleView<D>&, const WallGeometry<D>&,
                             Real* /*p*/, Real* /*rho*/, Vec<D>* /*wall_v*/) const {
     return false;
   }

@@ -11,6 +11,7 @@
 #include "physics/pair_loop.hpp"
 #include "physics/passes.hpp"
 #include "physics/rates.hpp"
+#include "physics/wall_mdbc.hpp"
 
 namespace varsph::physics {
 
@@ -20,7 +21,7 @@ class RatesImpl final : public Rates<D> {
   RatesImpl(const PhysicsParams<D>& p, Kernel kernel)
       : p_(p), W_(kernel), wall_(p.wall_D, p.wall_r0, p.wall_n1, p.wall_n2),
         soft_(p.soft_wall_coef, p.c0, p.dx, p.h),
-        av_(p.av_alpha, p.av_beta, p.c0, p.h, p.av_eps), lam_(p.nu, p.h),
+        av_(p.av_alpha, p.av_beta, p.c0, p.h, p.av_eps), riemann_(p.rho0, p.c0, p.riemann_eta), lam_(p.nu, p.h),
         stress_(p.as_eps, W_.w_r2(p.dx * p.dx), p.as_n), eos_(p.rho0, p.c0, p.background_pressure) {
     pick_acceleration();
     pick_density();
@@ -74,10 +75,16 @@ class RatesImpl final : public Rates<D> {
   }
   Vec<D> body_acceleration() const override { return g_eff_; }
 
-  bool update_walls(const NeighborGrid<D>& g, const ParticleView<D>& s, const Vec<D>* normal, Real* p, Real* rho,
-                    Vec<D>* vw) const override {
+  bool update_walls(const NeighborGrid<D>& g, const ParticleView<D>& s, const WallGeometry<D>& geo, Real* p,
+                    Real* rho, Vec<D>* vw) const override {
+    const bool free_slip = p_.wall_slip == WallSlip::FreeSlip;
+    if (p_.boundary == BoundaryModel::Mdbc) {  // English et al. 2022, ghost nodes (physics/wall_mdbc.hpp)
+      const MdbcWall<D, Kernel> wall{W_, g, s, geo, g_eff_, eos_, p_.mdbc_extrapolation, free_slip, p, rho, vw};
+      for_each_particle(s.size(), wall);
+      return true;
+    }
     if (p_.boundary != BoundaryModel::DummyAdami && p_.boundary != BoundaryModel::SoftRepulsive) return false;
-    AdamiWallPass<D, Kernel> pass{W_, s, normal, g_eff_, eos_, p_.wall_slip == WallSlip::FreeSlip, p, rho, vw};
+    AdamiWallPass<D, Kernel> pass{W_, s, geo, g_eff_, eos_, free_slip, p, rho, vw};
     for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
     return true;
   }
@@ -107,6 +114,8 @@ class RatesImpl final : public Rates<D> {
     if constexpr (std::is_same_v<Visc, NoViscosity>) return {};
     else if constexpr (std::is_same_v<Visc, ArtificialViscosity>) return av_;
     else if constexpr (std::is_same_v<Visc, LaminarViscosity>) return lam_;
+    else if constexpr (std::is_same_v<Visc, RiemannDissipation>) return riemann_;
+    else if constexpr (std::is_same_v<Visc, RiemannAndLaminarViscosity>) return Visc(riemann_, lam_);
     else return Visc(av_, lam_);
   }
 
@@ -168,6 +177,7 @@ class RatesImpl final : public Rates<D> {
   template <class Diff>
   Diff diffusion() const {
     if constexpr (std::is_same_v<Diff, NoDensityDiffusion>) return {};
+    else if constexpr (std::is_same_v<Diff, RiemannDiffusion<D>>) return Diff(p_.rho0, p_.c0, p_.gravity);
     else if constexpr (std::is_same_v<Diff, MolteniDiffusion>) return Diff(p_.diffusion_delta, p_.h, p_.c0);
     else return Diff(p_.diffusion_delta, p_.h, p_.c0, p_.rho0, p_.gravity);
   }
@@ -181,6 +191,7 @@ class RatesImpl final : public Rates<D> {
         return;
       case BoundaryModel::Dynamic:  // same pass as dummy walls: walls are pressure particles
       case BoundaryModel::DummyAdami:
+      case BoundaryModel::Mdbc:
         acc_fn_ = &run_acc<Visc, BoundaryModel::DummyAdami>;
         react_fn_ = &run_react<Visc, BoundaryModel::DummyAdami>;
         return;
@@ -191,7 +202,9 @@ class RatesImpl final : public Rates<D> {
     }
   }
   void pick_acceleration() {
-    if (p_.artificial_viscosity && p_.laminar_viscosity) acc_for_wall<ArtificialAndLaminarViscosity>();
+    if (p_.riemann && p_.laminar_viscosity) acc_for_wall<RiemannAndLaminarViscosity>();
+    else if (p_.riemann) acc_for_wall<RiemannDissipation>();
+    else if (p_.artificial_viscosity && p_.laminar_viscosity) acc_for_wall<ArtificialAndLaminarViscosity>();
     else if (p_.artificial_viscosity) acc_for_wall<ArtificialViscosity>();
     else if (p_.laminar_viscosity) acc_for_wall<LaminarViscosity>();
     else acc_for_wall<NoViscosity>();
@@ -199,6 +212,10 @@ class RatesImpl final : public Rates<D> {
   template <BoundaryModel M>
   void density_for_wall() {
     sum_fn_ = &run_sum<M>;
+    if (p_.riemann) {
+      drho_fn_ = &run_drho<M, RiemannDiffusion<D>>;
+      return;
+    }
     switch (p_.diffusion) {
       case DensityDiffusion::None: drho_fn_ = &run_drho<M, NoDensityDiffusion>; break;
       case DensityDiffusion::Molteni: drho_fn_ = &run_drho<M, MolteniDiffusion>; break;
@@ -210,6 +227,7 @@ class RatesImpl final : public Rates<D> {
       case BoundaryModel::Repulsive: density_for_wall<BoundaryModel::Repulsive>(); break;
       case BoundaryModel::Dynamic: density_for_wall<BoundaryModel::Dynamic>(); break;
       case BoundaryModel::DummyAdami:
+      case BoundaryModel::Mdbc:
       case BoundaryModel::SoftRepulsive: density_for_wall<BoundaryModel::DummyAdami>(); break;
     }
   }
@@ -226,6 +244,7 @@ class RatesImpl final : public Rates<D> {
         fused_fn_ = &run_fused<Visc, BoundaryModel::Dynamic, BoundaryModel::DummyAdami, Diff>;
         return;
       case BoundaryModel::DummyAdami:
+      case BoundaryModel::Mdbc:
         fused_fn_ = &run_fused<Visc, BoundaryModel::DummyAdami, BoundaryModel::DummyAdami, Diff>;
         return;
       case BoundaryModel::SoftRepulsive:
@@ -235,6 +254,15 @@ class RatesImpl final : public Rates<D> {
   }
   template <class Visc>
   void fused_for_diffusion() {
+    if constexpr (std::is_same_v<Visc, RiemannDissipation> || std::is_same_v<Visc, RiemannAndLaminarViscosity>) {
+      fused_for_wall<Visc, RiemannDiffusion<D>>();
+      return;
+    } else {
+      fused_for_other_diffusion<Visc>();
+    }
+  }
+  template <class Visc>
+  void fused_for_other_diffusion() {
     switch (p_.diffusion) {
       case DensityDiffusion::None: fused_for_wall<Visc, NoDensityDiffusion>(); return;
       case DensityDiffusion::Molteni: fused_for_wall<Visc, MolteniDiffusion>(); return;
@@ -242,7 +270,9 @@ class RatesImpl final : public Rates<D> {
     }
   }
   void pick_fused() {
-    if (p_.artificial_viscosity && p_.laminar_viscosity) fused_for_diffusion<ArtificialAndLaminarViscosity>();
+    if (p_.riemann && p_.laminar_viscosity) fused_for_diffusion<RiemannAndLaminarViscosity>();
+    else if (p_.riemann) fused_for_diffusion<RiemannDissipation>();
+    else if (p_.artificial_viscosity && p_.laminar_viscosity) fused_for_diffusion<ArtificialAndLaminarViscosity>();
     else if (p_.artificial_viscosity) fused_for_diffusion<ArtificialViscosity>();
     else if (p_.laminar_viscosity) fused_for_diffusion<LaminarViscosity>();
     else fused_for_diffusion<NoViscosity>();
@@ -253,6 +283,7 @@ class RatesImpl final : public Rates<D> {
   RepulsiveWall wall_;
   SoftRepulsiveWall soft_;
   ArtificialViscosity av_;
+  RiemannDissipation riemann_;
   LaminarViscosity lam_;
   ArtificialStress stress_;
   TaitEos eos_;

@@ -205,6 +205,16 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
     if (s.density != "continuity" && s.density_diffusion != "none")
       r.fail("physics.density_diffusion", "physics.density = \"continuity\" (diffusion acts on the continuity equation)");
   }
+  if (object_key("physics.riemann", "an object {eta}")) {
+    // Zhang, Hu & Adams 2017: the Riemann solver's dissipation replaces AV and delta-SPH (physics/riemann.hpp)
+    s.riemann = true;
+    s.riemann_eta = r.number("physics.riemann.eta", 3.0, 0, 1e6, "slope of the low-dissipation limiter");
+    if (s.artificial_viscosity)
+      r.fail("physics.riemann", "no physics.artificial_viscosity beside it (the Riemann solver's dissipation replaces it)");
+    if (s.density_diffusion != "none")
+      r.fail("physics.riemann", "no physics.density_diffusion beside it (the Riemann solver diffuses density itself)");
+    if (s.density != "continuity") r.fail("physics.riemann", "physics.density = \"continuity\"");
+  }
   if (object_key("physics.tensile_instability", "an object {type, epsilon, n}")) {
     s.tensile = r.choice("physics.tensile_instability.type", "artificial_stress", {"none", "artificial_stress"});
     s.as_eps = r.number("physics.tensile_instability.epsilon", 0.2, 0, 10, "artificial stress epsilon");
@@ -225,9 +235,11 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   }
 
   s.boundary_model =
-      r.choice("boundary.model", "repulsive", {"repulsive", "dynamic", "dummy_adami", "soft_repulsive"});
-  if (s.boundary_model == "dummy_adami" || s.boundary_model == "soft_repulsive")
+      r.choice("boundary.model", "repulsive", {"repulsive", "dynamic", "dummy_adami", "soft_repulsive", "mdbc"});
+  if (s.boundary_model == "dummy_adami" || s.boundary_model == "soft_repulsive" || s.boundary_model == "mdbc")
     s.wall_slip = r.choice("boundary.slip", "no_slip", {"no_slip", "free_slip"});
+  if (s.boundary_model == "mdbc")
+    s.mdbc_extrapolation = r.choice("boundary.mdbc.extrapolation", "gradient", {"gradient", "hydrostatic"});
   if (s.boundary_model == "soft_repulsive")
     s.soft_wall_coef = r.positive("boundary.soft_repulsive.coefficient", 0.01, "force scale / c0^2 (Chalk 2020: 0.01)");
   {

@@ -58,6 +58,8 @@ struct Scene {
 
   // physics.*
   std::string density = "continuity";  // "continuity" | "summation"
+  bool riemann = false;       // physics.riemann (Zhang, Hu & Adams 2017)
+  double riemann_eta = 3;     // its low-dissipation limiter slope
   bool artificial_viscosity = false;
   double av_alpha = 0, av_beta = 0, av_eps = 0.01;
 
@@ -84,7 +86,8 @@ struct Scene {
   double shift_max = 0.1;                  // physics.shifting.max_shift [dx]
 
   // boundary.*
-  std::string boundary_model = "repulsive";  // "repulsive" | "dynamic" | "dummy_adami" | "soft_repulsive"
+  std::string boundary_model = "repulsive";  // "repulsive" | "dynamic" | "dummy_adami" | "soft_repulsive" | "mdbc"
+  std::string mdbc_extrapolation = "gradient";  // mdbc: "gradient" (English 2022) | "hydrostatic"
   double wall_D = 0, wall_r0 = 0;
   int wall_n1 = 12, wall_n2 = 4;
   std::string wall_slip = "no_slip";  // boundary.slip (dummy_adami, soft_repulsive): no_slip | free_slip

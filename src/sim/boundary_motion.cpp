@@ -129,8 +129,31 @@ void BoundaryMotion<D>::evaluate(const MotionLaw<D>& law, double t, const Vec<D>
 }
 
 template <int D>
+Vec<D> BoundaryMotion<D>::acceleration(const MotionLaw<D>& law, double t, const Vec<D>& x) const {
+  using T = typename MotionLaw<D>::Type;
+  if (!(t >= law.start && t <= law.end)) return Vec<D>::Zero();
+  switch (law.type) {
+    case T::None:
+    case T::Translation: return Vec<D>::Zero();
+    case T::Rotation: {  // centripetal: omega x (omega x r)
+      Eigen::Vector3d r = Eigen::Vector3d::Zero();
+      for (int a = 0; a < D; ++a) r[a] = double(x[a] - law.center[a]);
+      const Eigen::Vector3d acc = law.omega.cross(law.omega.cross(r));
+      Vec<D> out;
+      for (int a = 0; a < D; ++a) out[a] = Real(acc[a]);
+      return out;
+    }
+    case T::Oscillation: {  // d^2/dt^2 of A sin(w tau + phi)
+      const double w = 2 * std::numbers::pi * law.frequency;
+      return Real(-w * w * std::sin(w * (t - law.start) + law.phase)) * law.amplitude;
+    }
+  }
+  return Vec<D>::Zero();
+}
+
+template <int D>
 void BoundaryMotion<D>::apply(double t, Field<Vec<D>>& x, Field<Vec<D>>& v, Field<Vec<D>>& normal,
-                              const Field<std::int32_t>& body) const {
+                              const Field<std::int32_t>& body, Field<Vec<D>>* acc) const {
   if (!active_) return;
   for_each_particle(x.size(), [&](std::size_t i) {
     const int b = body[i];
@@ -138,6 +161,7 @@ void BoundaryMotion<D>::apply(double t, Field<Vec<D>>& x, Field<Vec<D>>& v, Fiel
     Eigen::Matrix<Real, D, D> R;
     evaluate(laws_[b], t, (*x0_)[i], x[i], v[i], R);
     normal[i] = R * (*n0_)[i];
+    if (acc) (*acc)[i] = acceleration(laws_[b], t, x[i]);
   });
 }
 

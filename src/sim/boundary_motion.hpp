@@ -5,6 +5,7 @@
 //   translation  x = x0 + u t                                  v = u
 //   rotation     x = c + R(omega t) (x0 - c)                   v = omega x (x - c)
 //   oscillation  x = x0 + A [sin(2 pi f t + phi) - sin(phi)]   v = 2 pi f A cos(2 pi f t + phi)
+// and the accelerations a = 0, omega x (omega x (x - c)), -(2 pi f)^2 A sin(2 pi f t + phi).
 // Each law acts for start <= t <= end (before: at rest at x0; after: frozen where it stopped).
 #include <vector>
 
@@ -36,9 +37,12 @@ class BoundaryMotion {
   // Registers reference positions/normals only when some body moves (nothing otherwise).
   BoundaryMotion(std::vector<MotionLaw<D>> laws, ParticleStore& store);
   bool active() const { return active_; }
-  // Sets x, v (and normals) of the moving bodies' particles to the law at time t.
+  // Sets x, v (and normals, and the accelerations when `acc` is given) of the moving bodies' particles
+  // to the law at time t.
   void apply(double t, Field<Vec<D>>& x, Field<Vec<D>>& v, Field<Vec<D>>& normal,
-             const Field<std::int32_t>& body) const;
+             const Field<std::int32_t>& body, Field<Vec<D>>* acc = nullptr) const;
+  // Acceleration of a particle of law k at position x and time t (zero outside [start, end]).
+  Vec<D> acceleration(const MotionLaw<D>& law, double t, const Vec<D>& x) const;
   // Records the current positions/normals as references (after the particles are built).
   void capture_reference(const Field<Vec<D>>& x, const Field<Vec<D>>& normal);
   // Position, velocity and rotation of law k at time t for a reference point x0.

@@ -1,5 +1,6 @@
 #include "sim/build_particles.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -67,10 +68,11 @@ std::size_t remove_fluid_near_walls(InitialParticles<D>& p, double dist) {
     if (drop[i]) { ++removed; continue; }
     p.x[kept] = p.x[i]; p.v[kept] = p.v[i]; p.normal[kept] = p.normal[i]; p.rho[kept] = p.rho[i];
     p.mass[kept] = p.mass[i]; p.kind[kept] = p.kind[i]; p.body[kept] = p.body[i];
+    p.wall_distance[kept] = p.wall_distance[i];
     ++kept;
   }
   p.x.resize(kept); p.v.resize(kept); p.normal.resize(kept); p.rho.resize(kept);
-  p.mass.resize(kept); p.kind.resize(kept); p.body.resize(kept);
+  p.mass.resize(kept); p.kind.resize(kept); p.body.resize(kept); p.wall_distance.resize(kept);
   return removed;
 }
 
@@ -104,6 +106,14 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
     const std::int32_t kind = b.kind == "fluid" ? 0 : 1;
     const std::size_t first = out.x.size();
     Pts<D> pts, normals;
+    std::vector<Real> dists;  // boundary: distance to the fluid-wall interface along the normal
+    // a wall particle's normal points to its nearest point q of the interface, at distance |q - p|
+    auto toward = [&](const Vec<D>& p, const Vec<D>& q) {
+      const Vec<D> d = q - p;
+      const Real len = d.norm();
+      normals.push_back(len > 0 ? Vec<D>(d / len) : Vec<D>::Zero());
+      dists.push_back(len);
+    };
 
     if (b.shape == "box" || b.shape == "tank") {
       const Vec<D> lo = to_vec<D>(b.min), hi = to_vec<D>(b.max);
@@ -116,17 +126,19 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
       if (b.shape == "box" && kind == 0) {
         for_each_lattice_point<D>({}, n, lo, dx, [&](const Vec<D>& p, auto&) { pts.push_back(p); });
       } else if (b.shape == "box") {
-        // solid block: lattice cells within `layers` of its surface; normals point out of the block
+        // solid block: lattice cells within `layers` of its surface; the interface is the block's surface:
+        // the normal points out of the block to the nearest face (to the edge or corner where faces tie)
         for_each_lattice_point<D>({}, n, lo, dx, [&](const Vec<D>& p, const std::array<long, D>& i) {
-          Vec<D> nrm = Vec<D>::Zero();
-          bool near = false;
+          long depth = L;  // layer index of the nearest face
+          for (int a = 0; a < D; ++a) depth = std::min({depth, i[a], n[a] - 1 - i[a]});
+          if (depth >= L) return;
+          Vec<D> q = p;
           for (int a = 0; a < D; ++a) {
-            if (i[a] < L) { near = true; if (i[a] == 0) nrm[a] -= 1; }
-            if (i[a] >= n[a] - L) { near = true; if (i[a] == n[a] - 1) nrm[a] += 1; }
+            if (i[a] == depth) q[a] = lo[a];
+            else if (n[a] - 1 - i[a] == depth) q[a] = lo[a] + Real(double(n[a]) * dx);
           }
-          if (!near) return;
           pts.push_back(p);
-          normals.push_back(nrm.norm() > 0 ? Vec<D>(nrm.normalized()) : nrm);
+          toward(p, q);
         });
       } else {
         // tank: `layers` of lattice cells outside the walls [lo, hi]; open sides are not extended
@@ -135,16 +147,16 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
           f[a] = b.open[2 * a] ? 0 : -L;
           l[a] = b.open[2 * a + 1] ? n[a] : n[a] + L;
         }
+        // the interface is the tank's inner surface [lo, hi]: a wall particle's nearest point on it is
+        // its position clamped into the box (a corner for particles in a corner region)
         for_each_lattice_point<D>(f, l, lo, dx, [&](const Vec<D>& p, const std::array<long, D>& i) {
-          Vec<D> nrm = Vec<D>::Zero();
           bool outside = false;
-          for (int a = 0; a < D; ++a) {
-            if (i[a] < 0) { outside = true; nrm[a] += 1; }
-            if (i[a] >= n[a]) { outside = true; nrm[a] -= 1; }
-          }
+          for (int a = 0; a < D; ++a) outside |= i[a] < 0 || i[a] >= n[a];
           if (!outside) return;
           pts.push_back(p);
-          normals.push_back(Vec<D>(nrm.normalized()));
+          Vec<D> q = p;
+          for (int a = 0; a < D; ++a) q[a] = std::clamp(p[a], lo[a], lo[a] + Real(double(n[a]) * dx));
+          toward(p, q);
         });
         (void)hi;
       }
@@ -160,12 +172,13 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
         const Vec<D> r = p - c;
         if (double(r.norm()) > b.radius + 1e-9 * dx) return;
         pts.push_back(p);
-        if (kind == 1) normals.push_back(r.norm() > 0 ? Vec<D>(r.normalized()) : Vec<D>::Zero());
+        // the solid ball's surface sits half a spacing beyond its outermost lattice points
+        if (kind == 1) toward(p, r.norm() > 0 ? Vec<D>(c + r.normalized() * Real(b.radius + 0.5 * dx)) : p);
       });
     } else if (b.shape == "points") {
       for (auto& q : b.points) pts.push_back(to_vec<D>(q));
     } else if (b.shape == "mesh") {
-      sample_mesh_body<D>(s, bi, pts, normals);
+      sample_mesh_body<D>(s, bi, pts, normals, &dists);
     }
     if (pts.empty()) throw InputError(where + ": the body produced no particles (is it smaller than the spacing?)");
 
@@ -181,6 +194,7 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
       if (!b.velocities.empty()) v = to_vec<D>(b.velocities[k]);
       out.v.push_back(kind == 0 ? v : Vec<D>::Zero());
       out.normal.push_back(k < normals.size() ? normals[k] : Vec<D>::Zero());
+      out.wall_distance.push_back(k < dists.size() ? dists[k] : Real(0));
       out.mass.push_back(Real(s.rho0 * cell_volume));
       double rho = s.rho0;
       if (kind == 0 && b.initial_pressure == "hydrostatic" && gmag > 0) {

@@ -12,6 +12,8 @@ template <int D>
 struct InitialParticles {
   std::vector<Vec<D>> x, v, normal;
   std::vector<Real> rho, mass;
+  // boundary particles: distance to the fluid-wall interface along `normal` [m] (mDBC ghost nodes)
+  std::vector<Real> wall_distance;
   std::vector<std::int32_t> kind;
   std::vector<int> body;  // index of the body each particle came from
   std::size_t count(std::int32_t k) const;

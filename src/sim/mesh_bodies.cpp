@@ -74,7 +74,7 @@ Eigen::Matrix4d transform_of(const json& t, const std::string& where, int dim) {
 
 template <int D>
 void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>& positions,
-                      std::vector<Vec<D>>& normals) {
+                      std::vector<Vec<D>>& normals, std::vector<Real>* interface_distance) {
   const scene::BodySpec& b = s.bodies[index];
   const std::string where = s.file.string() + ": bodies." + std::to_string(index);
   const json& m = b.mesh;
@@ -124,6 +124,8 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<
     if (out.normals.rows() == out.positions.rows()) {
       for (int a = 0; a < D; ++a) n[a] = Real(sign * out.normals(k, a));
       normals.push_back(n);
+      // layer 0 sits on the mesh surface, half a spacing from the fluid (docs/geometry.md)
+      if (interface_distance) interface_distance->push_back(Real((double(out.layer[k]) + 0.5) * s.spacing));
     }
   }
 }
@@ -131,7 +133,8 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<
 #else
 
 template <int D>
-void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>&, std::vector<Vec<D>>&) {
+void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>&, std::vector<Vec<D>>&,
+                      std::vector<Real>*) {
   throw InputError(s.file.string() + ": bodies." + std::to_string(index) +
                    ": mesh bodies need the geometry module, which this build does not include "
                    "(configure with -DVARSPH_BUILD_GEOMETRY=ON)");
@@ -139,7 +142,9 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<
 
 #endif
 
-template void sample_mesh_body<2>(const scene::Scene&, std::size_t, std::vector<Vec<2>>&, std::vector<Vec<2>>&);
-template void sample_mesh_body<3>(const scene::Scene&, std::size_t, std::vector<Vec<3>>&, std::vector<Vec<3>>&);
+template void sample_mesh_body<2>(const scene::Scene&, std::size_t, std::vector<Vec<2>>&, std::vector<Vec<2>>&,
+                                  std::vector<Real>*);
+template void sample_mesh_body<3>(const scene::Scene&, std::size_t, std::vector<Vec<3>>&, std::vector<Vec<3>>&,
+                                  std::vector<Real>*);
 
 }  // namespace varsph

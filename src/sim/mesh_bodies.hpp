@@ -7,9 +7,10 @@
 
 namespace varsph {
 
-// Appends the particles (and outward normals for boundary bodies) of scene body `index`.
+// Appends the particles (and, for boundary bodies, the normals into the fluid and, when asked, each
+// particle's distance to the fluid-wall interface, (layer + 1/2) dx) of scene body `index`.
 template <int D>
 void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>& positions,
-                      std::vector<Vec<D>>& normals);
+                      std::vector<Vec<D>>& normals, std::vector<Real>* interface_distance = nullptr);
 
 }  // namespace varsph

@@ -94,6 +94,7 @@ class Runner {
  private:
   int run_loop(Simulation<D>& sim, Probes<D>& probes, const io::Checkpoint* ckpt) {
     using clock = std::chrono::steady_clock;
+    probes_ = &probes;
     open_outputs(sim, probes, ckpt);
     write_run_json(sim, "running", "");
 
@@ -144,6 +145,7 @@ class Runner {
         write_frame(sim);
         while (next_frame_ <= sim.time() + 0.5 * sim.dt()) next_frame_ += scene_.output_every;
       }
+      if (!probes.empty()) probes.accumulate(sim);  // load probes integrate over their interval
       if (!probes.empty() && sim.time() >= next_probe_ - 0.5 * sim.dt()) {
         write_probes(sim, probes);
         if (scene_.probes_every > 0)
@@ -224,6 +226,7 @@ class Runner {
       resume("next_probe", "probes_every", scene_.probes_every, next_probe_);
       resume("next_checkpoint", "checkpoint_every", scene_.checkpoint_every, next_checkpoint_);
       frame_index_ = rs.value("frame_index", 0L);
+      if (rs.contains("probe_window")) probes.restore_state(rs.at("probe_window"));
       const auto& fp = rs.value("fp", nlohmann::json::object());
       fp_steps_ = fp.value("steps", 0L);
       fp_iter_sum_ = fp.value("iter_sum", 0L);
@@ -277,6 +280,11 @@ class Runner {
   }
 
   nlohmann::json runner_state() const {
+    nlohmann::json j = runner_clock_state();
+    if (probes_ && !probes_->empty()) j["probe_window"] = probes_->save_state();
+    return j;
+  }
+  nlohmann::json runner_clock_state() const {
     return {{"frame_index", frame_index_},
             {"next_frame", next_frame_},
             {"output_every", scene_.output_every},
@@ -473,6 +481,7 @@ class Runner {
   bool root_ = true, quiet_ = false;
   io::RunDirectory dir_;
   std::unique_ptr<io::PvdSeries> pvd_;
+  Probes<D>* probes_ = nullptr;  // the run loop's probes (their accumulation goes into checkpoints)
   io::CsvTable diag_, probes_csv_;
   double next_frame_ = 0, next_probe_ = 0, next_checkpoint_ = 0;
   long last_checkpoint_step_ = -1, last_frame_step_ = -1;

@@ -51,9 +51,12 @@ std::string describe(const scene::Scene& s) {
     << (s.artificial_viscosity ? "artificial (alpha " + std::to_string(s.av_alpha) + ", beta " +
                                      std::to_string(s.av_beta) + ") "
                                : std::string(""))
+    << (s.riemann ? "Riemann-solver dissipation (Zhang 2017, eta " + std::to_string(s.riemann_eta) + ") "
+                  : std::string(""))
     << (s.laminar_viscosity ? "laminar (nu " + std::to_string(s.nu) + " m^2/s)" : std::string(""))
-    << (!s.artificial_viscosity && !s.laminar_viscosity ? "none" : "") << "\n"
-    << "density diffusion  " << s.density_diffusion << "\n"
+    << (!s.artificial_viscosity && !s.laminar_viscosity && !s.riemann ? "none" : "") << "\n"
+    << "density diffusion  " << (s.riemann ? std::string("riemann (pressure jump / rho0 c0)") : s.density_diffusion)
+    << "\n"
     << "shifting           "
     << (s.shifting ? "A " + std::to_string(s.shift_A) + ", velocity " + s.shift_velocity + ", R " +
                          std::to_string(s.shift_R) + ", n " + std::to_string(s.shift_n) + ", free surface " +

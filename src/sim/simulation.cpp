@@ -29,6 +29,8 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
   for (int a = 0; a < D; ++a) p.gravity[a] = Real(s.gravity[a]);
   p.density = s.density == "summation" ? physics::DensityMode::Summation : physics::DensityMode::Continuity;
   p.artificial_viscosity = s.artificial_viscosity;
+  p.riemann = s.riemann;
+  p.riemann_eta = Real(s.riemann_eta);
   p.av_alpha = Real(s.av_alpha);
   p.av_beta = Real(s.av_beta);
   p.av_eps = Real(s.av_eps);
@@ -40,6 +42,9 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
   using physics::BoundaryModel;
   if (s.boundary_model == "dummy_adami") p.boundary = BoundaryModel::DummyAdami;
   if (s.boundary_model == "soft_repulsive") p.boundary = BoundaryModel::SoftRepulsive;
+  if (s.boundary_model == "mdbc") p.boundary = BoundaryModel::Mdbc;
+  p.mdbc_extrapolation = s.mdbc_extrapolation == "hydrostatic" ? physics::MdbcExtrapolation::Hydrostatic
+                                                                : physics::MdbcExtrapolation::Gradient;
   p.wall_slip = s.wall_slip == "free_slip" ? physics::WallSlip::FreeSlip : physics::WallSlip::NoSlip;
   p.soft_wall_coef = Real(s.soft_wall_coef);
   p.dx = Real(s.spacing);
@@ -95,8 +100,13 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     f_.body[i] = i < init.body.size() ? std::int32_t(init.body[i]) : -1;
   }
   if (params_.boundary == physics::BoundaryModel::DummyAdami ||
-      params_.boundary == physics::BoundaryModel::SoftRepulsive)
+      params_.boundary == physics::BoundaryModel::SoftRepulsive || params_.boundary == physics::BoundaryModel::Mdbc)
     wall_v_ = &store_.add<Vec<D>>("wall_velocity", {.exported = true});  // checkpointed: restarts stay bitwise
+  if (params_.boundary == physics::BoundaryModel::Mdbc) {
+    // distance of each boundary particle to the fluid-wall interface: its ghost node sits at twice that
+    wall_distance_ = &store_.add<Real>("wall_distance", {.exported = false});
+    for (std::size_t i = 0; i < n; ++i) wall_distance_->data[i] = init.wall_distance[i];
+  }
   if (rates_->xsph_enabled())
     xsph_ = &store_.add<Vec<D>>("xsph_velocity", {.exported = true, .checkpointed = false});
   n_fluid_ = init.count(0);
@@ -108,8 +118,15 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
       laws.push_back(parse_motion<D>(scene.bodies[b].motion, scene.file.string() + ": bodies." + std::to_string(b) + ".motion"));
     motion_ = std::make_unique<BoundaryMotion<D>>(std::move(laws), store_);
     motion_->capture_reference(f_.x, f_.normal);
+    // walls extrapolated from the fluid feel their own acceleration (Adami 2012 eq. 27, mDBC clone)
+    if (motion_->active() && wall_v_)
+      wall_acc_ = &store_.add<Vec<D>>("wall_acceleration", {.exported = false});
   }
   integrator_ = make_integrator<D>(scene);
+  if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
+    // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
+    throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
+                     "(docs/parallel.md, Limits); run it in one process or use \"dynamic\" or \"dummy_adami\" walls");
   if (comm_->size() > 1) {
     // distributed: every rank built every particle (the same, deterministically); rank r keeps rows
     // [n r / P, n (r+1) / P) in id order, and the first sort_and_bin() moves them to their owners
@@ -170,6 +187,11 @@ std::int64_t Simulation<D>::global_count() const {
 }
 
 template <int D>
+bool Simulation<D>::owns_point(const Vec<D>& x) const {
+  return !domain_ || domain_->owns(x);
+}
+
+template <int D>
 std::unique_ptr<physics::Rates<D>> Simulation<D>::make_rates(const physics::PhysicsParams<D>& p) {
   auto r = physics::make_rates<D>(p);
   if (domain_) return std::make_unique<parallel::HaloRates<D>>(std::move(r), *domain_);
@@ -215,7 +237,7 @@ void Simulation<D>::set_skin(Real skin) {
 
 template <int D>
 void Simulation<D>::move_boundaries(double t) {
-  motion_->apply(t, f_.x, f_.v, f_.normal, f_.body);
+  motion_->apply(t, f_.x, f_.v, f_.normal, f_.body, wall_acc_);
 }
 
 template <int D>
@@ -250,7 +272,10 @@ void Simulation<D>::rebin() {
 template <int D>
 physics::ParticleView<D> Simulation<D>::current_view() const {
   physics::ParticleView<D> v{f_.x.data, f_.v.data, f_.rho.data, f_.p.data, f_.mass.data, f_.kind.data};
-  if (wall_v_) v.wall_v = wall_v_->data;
+  if (wall_v_) {
+    v.wall_v = wall_v_->data;
+    v.normal = f_.normal.data;
+  }
   return v;
 }
 
@@ -281,8 +306,16 @@ void Simulation<D>::update_pressure() {
   const auto eos = eos_;
   for_each_particle(store_.size(), [&](std::size_t i) { p[i] = eos.pressure(rho[i]); });
   // dummy walls (Adami 2012): boundary pressure, density and viscous velocity from the fluid
-  if (wall_v_)
-    rates_->update_walls(grid_, current_view(), f_.normal.data.data(), p, f_.rho.data.data(), wall_v_->data.data());
+  if (wall_v_) rates_->update_walls(grid_, current_view(), wall_geometry(), p, f_.rho.data.data(), wall_v_->data.data());
+}
+
+template <int D>
+physics::WallGeometry<D> Simulation<D>::wall_geometry() const {
+  physics::WallGeometry<D> g;
+  g.normal = f_.normal.data.data();
+  if (wall_distance_) g.distance = wall_distance_->data.data();
+  if (wall_acc_) g.acceleration = wall_acc_->data.data();
+  return g;
 }
 
 template <int D>

@@ -107,6 +107,8 @@ class Simulation {
   // View of the current state (positions, velocities, densities, pressures).
   physics::ParticleView<D> current_view() const;
   void update_pressure();                  // p = EOS(rho) for every particle
+  // What extrapolated wall models read about boundary particles (normals, interface distance, a_w).
+  physics::WallGeometry<D> wall_geometry() const;
   void update_density_after_move(Real dt);  // continuity (rho += dt drho) or summation, then pressure
   // XSPH (physics.xsph): whether named, and the correction of the current state into the registered
   // field `xsph_velocity` (integrators drift with x += dt (v + correction)).
@@ -138,6 +140,9 @@ class Simulation {
   double global_max(double v) const;
   double global_sum(double v) const;
   std::int64_t global_count() const;  // particles on all ranks
+  // True on the one rank whose cells hold x (always in one process): point queries (probes) are
+  // computed there, where every neighbour of x is an owned or ghost particle in the serial order.
+  bool owns_point(const Vec<D>& x) const;
   // Rates for other parameters (the variational integrator's wall-free passes), with the halo
   // exchange of a distributed run in front of every pass.
   std::unique_ptr<physics::Rates<D>> make_rates(const physics::PhysicsParams<D>& p);
@@ -159,7 +164,9 @@ class Simulation {
   std::unique_ptr<Integrator<D>> integrator_;
   std::unique_ptr<BoundaryMotion<D>> motion_;  // prescribed motion of boundary bodies (inactive if none)
   std::vector<Field<Vec<D>>*> position_like_;
-  Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls: velocity boundary particles show to viscosity
+  Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls / mDBC: velocity boundary particles show to viscosity
+  Field<Real>* wall_distance_ = nullptr;    // mDBC: distance to the fluid-wall interface [m]
+  Field<Vec<D>>* wall_acc_ = nullptr;       // extrapolated walls with prescribed motion: a_w [m/s^2]
   Field<Vec<D>>* xsph_ = nullptr;    // XSPH correction
   std::vector<std::uint32_t> perm_;
   std::vector<Real> rho_scratch_;  // Shepard re-initialisation output (sized once)

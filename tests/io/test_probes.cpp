@@ -67,6 +67,64 @@ TEST(Probes, HydrostaticColumnPressureHeightAndFront) {
   EXPECT_NEAR(v[5], 0.09 + 0.01 * 0, 0.011);  // cell-centred lattice: largest x = 0.1 - dx/2
 }
 
+TEST(Probes, WallSensorIsExactOnTheHydrostaticColumnWithAndWithoutAFace) {
+  // first-order fluid-side value: the linear hydrostatic field is read exactly on the wall (x = 0) and on
+  // the floor (y = 0), with a point sensor and with a 15 mm face (a linear field's face mean is its centre
+  // value); the wall normal is found from the nearest wall particle; a sensor far from any fluid reads 0
+  auto s = tiny({"probes=[{\"type\":\"pressure\",\"name\":\"w\",\"point\":[0.0,0.08]},"
+                 "{\"type\":\"pressure\",\"name\":\"wr\",\"point\":[0.0,0.08],\"radius\":0.015},"
+                 "{\"type\":\"pressure\",\"name\":\"f\",\"point\":[0.05,0.0],\"radius\":0.015},"
+                 "{\"type\":\"pressure\",\"name\":\"fn\",\"point\":[0.05,0.0],\"normal\":[0,2]},"
+                 "{\"type\":\"pressure\",\"name\":\"dry\",\"point\":[0.4,0.2],\"radius\":0.01}]"});
+  Simulation<2> sim(s);
+  Probes<2> probes(s);
+  const auto v = probes.sample(sim);
+  ASSERT_EQ(v.size(), 5u);
+  const double rho_g = 1000 * 9.81, tol = test::real_tol(1e-6, 1e3) * rho_g * 0.2;
+  EXPECT_NEAR(v[0], rho_g * (0.2 - 0.08), tol);
+  EXPECT_NEAR(v[1], rho_g * (0.2 - 0.08), tol);
+  EXPECT_NEAR(v[2], rho_g * 0.2, tol) << "floor";
+  EXPECT_NEAR(v[3], rho_g * 0.2, tol) << "given normal (normalised)";
+  EXPECT_EQ(v[4], 0.0) << "dry sensor";
+  // a face radius without a normal and no wall nearby is refused, naming the probe
+  auto bad = tiny({"probes=[{\"type\":\"pressure\",\"name\":\"lost\",\"point\":[0.2,0.2],\"radius\":0.01}]"});
+  Simulation<2> sim2(bad);
+  Probes<2> p2(bad);
+  try {
+    p2.sample(sim2);
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'lost'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Probes, LoadProbesReportTheMeanOverTheSamplingInterval) {
+  // a row is the dt-weighted mean of the per-step values since the previous row (a transducer integrates
+  // over its sampling interval); geometric probes are instantaneous
+  auto s = tiny({"probes=[{\"type\":\"pressure\",\"name\":\"w\",\"point\":[0.0,0.02]},{\"type\":\"front\"}]"});
+  Simulation<2> sim(s);
+  Probes<2> averaged(s), instant(s);
+  double sum = 0, T = 0;
+  for (int k = 0; k < 40; ++k) {
+    sim.advance();
+    averaged.accumulate(sim);
+    const auto now = instant.sample(sim);  // nothing accumulated: the current value
+    sum += now[0] * sim.dt();
+    T += sim.dt();
+  }
+  const auto row = averaged.sample(sim);
+  const auto now = instant.sample(sim);
+  EXPECT_NEAR(row[0], sum / T, 1e-9 * std::abs(sum / T));
+  EXPECT_NE(row[0], now[0]) << "the column is collapsing: the mean differs from the last value";
+  EXPECT_EQ(row[1], now[1]) << "the front is instantaneous";
+  // the accumulation round-trips through the checkpoint state
+  Probes<2> a(s), b(s);
+  a.accumulate(sim);
+  a.accumulate(sim);
+  b.restore_state(a.save_state());
+  EXPECT_EQ(a.sample(sim), b.sample(sim));
+}
+
 TEST(Probes, ForceOnBoundaryBodiesBalancesThePairForcesOnTheFluid) {
   // Newton's third law on the same pair terms: sum over fluid of m (a - g) = - sum over all boundary
   // particles of the reaction force (fluid-fluid pair terms cancel in the sum)

@@ -155,3 +155,44 @@ TEST(NeighborGrid, SortIsStableAndAPermutation) {
   }
   EXPECT_EQ(next, 1000u);
 }
+
+// Point queries (wall ghost nodes, probes): every particle within the radius of arbitrary points, inside
+// and just outside the domain, on both grids and across periodic axes, against brute force.
+template <int D>
+void check_point_queries(bool hashed, std::array<bool, D> periodic, unsigned seed) {
+  const Real rc = 0.13;
+  const auto o = options<D>(rc, hashed, periodic);
+  NeighborGrid<D> g;
+  g.configure(o);
+  auto x = random_points<D>(700, seed);
+  std::vector<std::uint32_t> perm;
+  g.build(x, perm);
+  std::vector<Vec<D>> xs(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) xs[k] = x[perm[k]];
+  const auto probes = random_points<D>(60, seed + 1, -0.05, 1.05);
+  for (const auto& p : probes) {
+    std::set<std::uint32_t> expect, got;
+    for (std::uint32_t j = 0; j < xs.size(); ++j) {
+      Vec<D> d = p - xs[j];
+      for (int a = 0; a < D; ++a)
+        if (periodic[a]) d[a] -= std::round(d[a]);  // unit box
+      if (d.squaredNorm() < rc * rc) expect.insert(j);
+    }
+    g.for_each_near(p, xs, rc, [&](std::uint32_t j, const Vec<D>& d) {
+      EXPECT_TRUE(got.insert(j).second) << "particle visited twice";
+      Vec<D> e = p - xs[j];
+      for (int a = 0; a < D; ++a)
+        if (periodic[a]) e[a] -= std::round(e[a]);
+      EXPECT_NEAR(double((d - e).norm()), 0.0, 1e-6) << "offset is not the nearest image";
+    });
+    EXPECT_EQ(got, expect);
+  }
+}
+
+TEST(NeighborGrid, PointQueriesMatchBruteForce) {
+  check_point_queries<2>(false, {false, false}, 3);
+  check_point_queries<2>(false, {true, false}, 4);
+  check_point_queries<3>(false, {false, true, false}, 5);
+  check_point_queries<2>(true, {false, false}, 6);
+  check_point_queries<3>(true, {false, false, false}, 7);
+}
