@@ -76,10 +76,10 @@ class HaloRates final : public physics::Rates<D> {
   Real kernel_w(Real r) const override { return inner_->kernel_w(r); }
   void set_time(double t) override { inner_->set_time(t); }
   Vec<D> body_acceleration() const override { return inner_->body_acceleration(); }
-  bool update_walls(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, const Vec<D>* normal, Real* p,
-                    Real* rho, Vec<D>* wall_v) const override {
-    refresh(s, kAll);
-    return inner_->update_walls(g, s, normal, p, rho, wall_v);
+  bool update_walls(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, const physics::WallGeometry<D>& geo,
+                    Real* p, Real* rho, Vec<D>* wall_v) const override {
+    refresh(s, kAll);  // the wall's own geometry (normal, distance, acceleration) is read for owned walls only
+    return inner_->update_walls(g, s, geo, p, rho, wall_v);
   }
   bool xsph_enabled() const override { return inner_->xsph_enabled(); }
   void xsph(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, Vec<D>* out) const override {
