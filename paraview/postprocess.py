@@ -1,19 +1,33 @@
 """Post-process a varsph run into RUN_DIR/post/.
 
-    xvfb-run -a pvpython paraview/postprocess.py RUN_DIR [--compare OTHER_RUN] [--times t1,t2,...]
-                 [--gauges x1,x2,...] [--probe-points "x,y[,z];x,y[,z]"] [--no-snapshots]
+    xvfb-run -a -s -noreset pvpython paraview/postprocess.py RUN_DIR [--compare OTHER_RUN] [--times t1,t2,...]
+        [--gauges x1,x2,...] [--reference-probe NAME=FILE.csv[:H=..][:rho=..][:g=..][:label=..]]...
+        [--probe-points "x,y[,z];..."] [--no-snapshots]
 
 Writes (and prints each path):
-  free_surface_t<time>.png, pressure_t<time>.png   snapshots at --times (default 4 evenly spaced frames)
-  surge_front.csv (time,front_x,front_rel,height_x<g>...) + surge_front.png
-  probes.png                      plot of RUN_DIR/probes.csv, when the run has one
-  pressure_probes.csv/.png        SPH-interpolated pressure at --probe-points, when given
-  deviation.csv (time,D_max,D_mean,D_rms, as varsph compare) + deviation.png, with --compare
-  momentum.csv (time,momentum_x,momentum_y,momentum_z,momentum_Q) + momentum_Q.png, from diagnostics.csv
+  probes_<type>.png               RUN/probes.csv (the solver's runtime probes, sampled every probes_every):
+                                  pressure, water_height, front, force; --compare overlays run B's
+  probe_<NAME>_reference.png      a probe beside measured data (--reference-probe, see below)
+  surge_front.csv/.png            time,front_x,front_rel,height_x<g>... from the frames (--gauges: heights)
+  front_dimensionless.csv/.png    Z = (x_front - x_wall)/L against T = t sqrt(2 g/L) (front from probes.csv when
+                                  it has one, else from the frames) with Martin & Moyce (1952) and Koshizuka &
+                                  Oka (1996) measurements; --compare overlays run B
+  momentum.csv, momentum_Q.png    time,momentum_x,momentum_y,momentum_z,momentum_Q and Q(t) (+ run B)
+  deviation.csv/.png              with --compare: time,D_max,D_mean,D_rms over the common times (eq. 70)
+  scene_diff.txt                  with --compare: the resolved scene keys in which the runs differ
+  free_surface_t<T>.png, pressure_t<T>.png, pressure_smoothed_t<T>.png (raw | smoothed), deviation_t<T>.png
+                                  pictures at --times (nearest frames; default 4 evenly spaced frames;
+                                  deviation: the last common time)
+  pressure_probes.csv/.png        with --probe-points: pressure interpolated from the FRAMES (output rate only;
+                                  impacts between frames are missed: prefer runtime probes in the scene)
+
+--reference-probe NAME=FILE: NAME is a probes.csv column (p_wall) or a probe name (wall); FILE has a header
+and '#' comments, columns T,P (dimensionless: T = t sqrt(g/H), P = p/(rho g H); the run is converted with
+H = the initial water column height, rho0 and |g| of the run, or :H=..:rho=..:g=..) or t,p (s, Pa).
 Plots need matplotlib inside pvpython; without it the CSV files are still written and a message says so.
+Exit status 2 on bad input (a missing run, a malformed reference file), naming the file.
 """
 import argparse
-import csv
 import os
 import sys
 
@@ -23,60 +37,16 @@ import numpy as np  # noqa: E402
 
 from varsph import deviation as dev  # noqa: E402
 from varsph import io as vio  # noqa: E402
-from varsph import probe, surge  # noqa: E402
-
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-except Exception as e:  # pragma: no cover - depends on the installation
-    plt = None
-    _MPL_ERROR = str(e)
+from varsph import plots, probe, reference, runmeta, surge  # noqa: E402
 
 WRITTEN = []
 
 
 def note(path):
-    WRITTEN.append(path)
-    print("wrote", path)
-
-
-def read_csv(path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    if not rows:
-        return [], {}
-    head = [h.strip() for h in rows[0]]
-    cols = {h: [] for h in head}
-    for r in rows[1:]:
-        if not r:
-            continue
-        for h, v in zip(head, r):
-            try:
-                cols[h].append(float(v))
-            except ValueError:
-                cols[h].append(float("nan"))
-    return head, {h: np.asarray(v) for h, v in cols.items()}
-
-
-def plot(path, x, series, xlabel, ylabel, title):
-    if plt is None:
-        print("skipped %s: matplotlib does not import in this Python (%s); install python3-matplotlib"
-              % (path, _MPL_ERROR))
-        return
-    fig, ax = plt.subplots(figsize=(7, 4))
-    for label, y in series:
-        ax.plot(x, y, marker="o" if len(x) < 30 else None, ms=3, label=label)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    ax.grid(True, alpha=0.3)
-    if len(series) > 1:
-        ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    note(path)
+    if path:
+        WRITTEN.append(path)
+        print("wrote", path)
+    return path
 
 
 def floats(text):
@@ -90,99 +60,211 @@ def choose_times(all_times, wanted):
     return [all_times[k] for k in idx]
 
 
-def snapshots(run, post, times):
+def label_of(run):
+    return os.path.basename(os.path.normpath(run))
+
+
+# --- from the runtime probes ------------------------------------------------------------------------------
+def probe_figures(runs, post):
+    head, c = runmeta.probes(runs[0])
+    if not head:
+        print("no probes.csv in %s; no probe plots (add probes to the scene: docs/results.md)" % runs[0])
+        return
+    others = [runmeta.probes(r) for r in runs[1:]]
+    for suffix, title, unit, cols in runmeta.probe_groups(head):
+        series = [(label_of(runs[0]), [(h, c["time"], c[h]) for h in cols])]
+        for r, (_, oc) in zip(runs[1:], others):
+            if "time" in oc:
+                series.append((label_of(r), [(h, oc["time"], oc[h]) for h in cols if h in oc]))
+        note(plots.lines(os.path.join(post, "probes_%s.png" % suffix), series, "time [s]", unit,
+                         "%s (probes.csv, every %.3g s)" % (title, np.median(np.diff(c["time"])) if len(c["time"]) > 1
+                                                            else 0)))
+
+
+def reference_probe_figures(run, post, specs, geom):
+    head, c = runmeta.probes(run)
+    for spec in specs:
+        name, path, opts = reference.parse_reference_probe(spec)
+        col = name if name in c else ("p_" + name if "p_" + name in c else None)
+        if col is None:
+            raise ValueError("--reference-probe %s: probes.csv of %s has no column %s or p_%s (has %s)"
+                             % (spec, run, name, name, ", ".join(h for h in head if h != "time") or "none"))
+        kind, x, y = reference.load_reference_probe(path)
+        H, rho, g = opts.get("H", geom.H), opts.get("rho", geom.rho0), opts.get("g", geom.g)
+        t, p = c["time"], c[col]
+        if kind == "dimensionless":
+            t, p = t * np.sqrt(g / H), p / (rho * g * H)
+            xl, yl = "T = t sqrt(g/H)", "P = p / (rho g H)"
+            sub = "H = %.4g m, rho = %.5g kg/m3, g = %.4g m/s2" % (H, rho, g)
+        else:
+            xl, yl, sub = "time [s]", "pressure [Pa]", "SI units"
+        ref_label = opts.get("label", os.path.splitext(os.path.basename(path))[0])
+        note(plots.lines(os.path.join(post, "probe_%s_reference.png" % name), [(label_of(run), [(col, t, p)])],
+                         xl, yl, "probe %s against %s\n(%s)" % (col, ref_label, sub), markers=[(ref_label, x, y)]))
+
+
+def front_figure(runs, post, frames0):
+    """Dimensionless surge front with the bundled measurements."""
+    series = []
+    for run, f0 in zip(runs, frames0):
+        geom = reference.ColumnGeometry(f0, run)
+        head, c = runmeta.probes(run)
+        fcol = next((h for h in head if h.startswith("front_x")), None)
+        if fcol:
+            t, x, src = c["time"], c[fcol], "probes.csv"
+        else:
+            rows = surge.surge_series(run)[1]
+            t, x, src = np.array([r[0] for r in rows]), np.array([r[1] for r in rows]), "frames"
+        T, Z = geom.front(t, x)
+        if run == runs[0]:
+            note(surge.write_table_csv(["time", "T", "Z"], np.column_stack([t, T, Z]),
+                                       os.path.join(post, "front_dimensionless.csv")))
+        series.append((label_of(run), [("varsph (%s), L = %.4g m, n^2 = H/L = %.3g" % (src, geom.L, geom.n2), T, Z)]))
+    refs = [(label + " (n^2 = 2)", T, Z) for label, T, Z in reference.front_references()]
+    if not refs:
+        print("front_dimensionless.png: no reference data found in %s" % " or ".join(reference.DATA_DIRS))
+    note(plots.lines(os.path.join(post, "front_dimensionless.png"), series, "T = t sqrt(2 g / L)",
+                     "Z = (x_front - x_wall) / L", "dam-break surge front", markers=refs))
+
+
+# --- from the frames and diagnostics ----------------------------------------------------------------------
+def surge_table(run, post, loaded, gauges):
+    vert = vio.vertical_axis(run, loaded[0].dimension)
+    cols, rows = surge.surge_series(run, gauges, vertical=vert, frames=loaded)
+    note(surge.write_table_csv(cols, rows, os.path.join(post, "surge_front.csv")))
+    r = np.asarray(rows, dtype=float)
+    note(plots.lines(os.path.join(post, "surge_front.png"),
+                     [(label_of(run), [("front x", r[:, 0], r[:, 1])] +
+                       [(col, r[:, 0], r[:, k]) for k, col in enumerate(cols) if col.startswith("height_x")])],
+                     "time [s]", "position / height [m]", "surge front (max x of the fluid) and gauge heights, "
+                     "from the frames"))
+
+
+def momentum(runs, post):
+    head, c = runmeta.diagnostics(runs[0])
+    if not head:
+        print("no diagnostics.csv in %s; no momentum plot" % runs[0])
+        return
+    if "time" not in c or "momentum_Q" not in c:
+        print("diagnostics.csv lacks time/momentum_Q; no momentum plot")
+        return
+    have = [h for h in ("time", "momentum_x", "momentum_y", "momentum_z", "momentum_Q") if h in c]
+    note(surge.write_table_csv(have, np.column_stack([c[h] for h in have]), os.path.join(post, "momentum.csv")))
+    series = [(label_of(runs[0]), [("Q", c["time"], c["momentum_Q"])])]
+    for r in runs[1:]:
+        _, oc = runmeta.diagnostics(r)
+        if "momentum_Q" in oc:
+            series.append((label_of(r), [("Q", oc["time"], oc["momentum_Q"])]))
+    note(plots.lines(os.path.join(post, "momentum_Q.png"), series, "time [s]", "Q = |sum_i m_i v_i| / M",
+                     "linear momentum Q(t) (M = number of fluid particles)"))
+
+
+def compare(run, other, post):
+    drows = dev.deviation_series(run, other)
+    note(dev.write_deviation_csv(drows, os.path.join(post, "deviation.csv")))
+    d = np.asarray(drows, dtype=float)
+    note(plots.lines(os.path.join(post, "deviation.png"),
+                     [(label_of(run), [("D_max (eq. 70)", d[:, 0], d[:, 1]), ("D_mean", d[:, 0], d[:, 2]),
+                                       ("D_rms", d[:, 0], d[:, 3])])],
+                     "time [s]", "deviation [m]", "D(t) = max_i |q_i,A - q_i,B| at the %d common times, B = %s"
+                     % (len(d), label_of(other))))
+    diff = runmeta.scene_diff(run, other)
+    path = os.path.join(post, "scene_diff.txt")
+    with open(path, "w") as f:
+        f.write("resolved scene keys that differ (run.json 'scene'): A = %s, B = %s\n" % (run, other))
+        for k, a, b in diff:
+            f.write("%s: A = %s, B = %s\n" % (k, a, b))
+        if not diff:
+            f.write("(none)\n")
+    print("scene keys that differ between %s and %s: %s" % (label_of(run), label_of(other),
+          "; ".join("%s (%s vs %s)" % (k, a, b) for k, a, b in diff) or "none"))
+    note(path)
+    return drows
+
+
+def snapshots(run, other, post, times, size=(1200, 700)):
     try:
         from varsph import pvstate
     except Exception as e:
         print("skipped snapshots: ParaView is not available (%s); run with pvpython" % e)
         return
-    prange = pvstate.pressure_range(run)
-    for name, build in (("free_surface", lambda v: pvstate.free_surface_state(run, times[0], prange=prange, view=v)),
-                        ("pressure", lambda v: pvstate.pressure_state(run, times[0], prange=prange, view=v))):
-        view = build(pvstate.new_view())
+    s = pvstate.pv()
+    for name, build in (("free_surface", lambda: pvstate.free_surface_state(run, view=pvstate.new_view(size))),
+                        ("pressure", lambda: pvstate.pressure_state(run, view=pvstate.new_view(size)))):
+        s.ResetSession()
+        view = build()
         for t in times:
             pvstate.set_time(view, t)
-            note(pvstate.screenshot(view, os.path.join(post, "%s_t%.6g.png" % (name, t))))
+            note(pvstate.screenshot(view, os.path.join(post, "%s_t%.6g.png" % (name, t)), size))
+    s.ResetSession()
+    layout = pvstate.pressure_pair(run, size=(2 * size[0], size[1]))
+    first = s.FindView("varsph pressure raw view")
+    for t in times:
+        pvstate.set_time(first, t)
+        note(pvstate.screenshot(layout, os.path.join(post, "pressure_smoothed_t%.6g.png" % t), (2 * size[0], size[1])))
+    if other:
+        s.ResetSession()
+        view = pvstate.deviation_state(run, other, view=pvstate.new_view(size))
+        t = s.GetAnimationScene().AnimationTime
+        note(pvstate.screenshot(view, os.path.join(post, "deviation_t%.6g.png" % t), size))
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("run", help="run directory (RUN/NAME.pvd, RUN/frames, diagnostics.csv, ...)")
-    ap.add_argument("--compare", default=None, help="second run: writes deviation.csv/.png (eq. 70)")
+    ap.add_argument("run", help="run directory (RUN/NAME.pvd, RUN/frames, probes.csv, diagnostics.csv, ...)")
+    ap.add_argument("--compare", default=None, help="second run: overlays, deviation.csv/.png, scene_diff.txt")
     ap.add_argument("--times", default=None, help="snapshot times t1,t2,... (nearest frames)")
     ap.add_argument("--gauges", default=None, help="water-height gauge positions x1,x2,... for surge_front.csv")
-    ap.add_argument("--probe-points", default=None, help="pressure probes 'x,y[,z];...' -> pressure_probes.csv")
-    ap.add_argument("--no-snapshots", action="store_true", help="skip the ParaView renderings")
+    ap.add_argument("--reference-probe", action="append", default=[], metavar="NAME=FILE[:H=..][:rho=..][:g=..]",
+                    help="plot probe NAME against measured data in FILE (columns T,P or t,p); repeatable")
+    ap.add_argument("--probe-points", default=None, help="pressure from the frames at 'x,y[,z];...' (output rate)")
+    ap.add_argument("--no-snapshots", action="store_true", help="skip the ParaView pictures")
     a = ap.parse_args(argv)
 
-    run = a.run
-    post = os.path.join(run if os.path.isdir(run) else os.path.dirname(run), "post")
-    os.makedirs(post, exist_ok=True)
-    frames = vio.frames_of_run(run)
-    if not frames:
-        print("error: %s has no frames" % run, file=sys.stderr)
+    runs = [a.run] + ([a.compare] if a.compare else [])
+    try:
+        frames = vio.frames_of_run(a.run)
+        other_frames = vio.frames_of_run(a.compare) if a.compare else None
+        for spec in a.reference_probe:     # check the references before any work
+            reference.load_reference_probe(reference.parse_reference_probe(spec)[1])
+    except (OSError, ValueError) as e:
+        print("postprocess: error: %s" % e, file=sys.stderr)
         return 2
+    if not frames:
+        print("postprocess: error: %s has no frames" % a.run, file=sys.stderr)
+        return 2
+    post = os.path.join(runmeta.run_dir(a.run), "post")
+    os.makedirs(post, exist_ok=True)
     times = [t for t, _ in frames]
-    print("run %s: %d frame(s), t = %.6g .. %.6g s" % (run, len(times), times[0], times[-1]))
+    print("run %s: %d frame(s), t = %.6g .. %.6g s" % (a.run, len(times), times[0], times[-1]))
 
-    # frames read once for the tables
     loaded = [vio.read_vtu(p, t) for t, p in frames]
-
-    vert = vio.vertical_axis(run, loaded[0].dimension)   # opposite gravity in run.json, else y (2D) / z (3D)
-    cols, rows = surge.surge_series(run, floats(a.gauges), vertical=vert, frames=loaded)
-    note(surge.write_table_csv(cols, rows, os.path.join(post, "surge_front.csv")))
-    r = np.asarray(rows, dtype=float)
-    plot(os.path.join(post, "surge_front.png"), r[:, 0], [("front x", r[:, 1])] +
-         [(c, r[:, k]) for k, c in enumerate(cols) if c.startswith("height_x")],
-         "time [s]", "position / height [m]", "surge front (max x of the fluid) and gauge heights")
-
-    pcsv = os.path.join(run, "probes.csv")
-    if os.path.isfile(pcsv):
-        head, c = read_csv(pcsv)
-        if "time" in c and len(head) > 1:
-            plot(os.path.join(post, "probes.png"), c["time"], [(h, c[h]) for h in head if h != "time"],
-                 "time [s]", "probe value", "probes.csv")
-        else:
-            print("probes.csv has no 'time' column or no probe column; no plot")
-    else:
-        print("no probes.csv in %s; no probe plot" % run)
-
+    frames0 = [loaded[0]] + ([vio.read_vtu(other_frames[0][1], other_frames[0][0])] if other_frames else [])
+    probe_figures(runs, post)
+    try:
+        reference_probe_figures(a.run, post, a.reference_probe, reference.ColumnGeometry(loaded[0], a.run))
+    except ValueError as e:
+        print("postprocess: error: %s" % e, file=sys.stderr)
+        return 2
+    surge_table(a.run, post, loaded, floats(a.gauges))
+    front_figure(runs, post, frames0)
+    momentum(runs, post)
     if a.probe_points:
         pts = [floats(p) + [0.0] * (3 - len(floats(p))) for p in a.probe_points.split(";") if p.strip()]
-        t, v = probe.probe_series(run, pts, frames=loaded)
+        t, v = probe.probe_series(a.run, pts, frames=loaded)
         cols = ["time"] + ["pressure_%d" % k for k in range(len(pts))]
         note(surge.write_table_csv(cols, np.column_stack([t, v]), os.path.join(post, "pressure_probes.csv")))
-        plot(os.path.join(post, "pressure_probes.png"), t,
-             [("(%g, %g, %g)" % tuple(p), v[:, k]) for k, p in enumerate(pts)],
-             "time [s]", "pressure [Pa]", "SPH pressure probes")
-
+        note(plots.lines(os.path.join(post, "pressure_probes.png"),
+                         [(label_of(a.run), [("(%g, %g, %g)" % tuple(p), t, v[:, k]) for k, p in enumerate(pts)])],
+                         "time [s]", "pressure [Pa]", "pressure interpolated from the frames (output rate only)"))
     if a.compare:
-        drows = dev.deviation_series(run, a.compare)
-        note(dev.write_deviation_csv(drows, os.path.join(post, "deviation.csv")))
-        d = np.asarray(drows, dtype=float)
-        plot(os.path.join(post, "deviation.png"), d[:, 0],
-             [("D_max (eq. 70)", d[:, 1]), ("D_mean", d[:, 2]), ("D_rms", d[:, 3])],
-             "time [s]", "deviation [m]", "D(t) = max_i |q_i,A - q_i,B|, B = %s" % os.path.basename(
-                 os.path.normpath(a.compare)))
-
-    dcsv = os.path.join(run, "diagnostics.csv")
-    if os.path.isfile(dcsv):
-        head, c = read_csv(dcsv)
-        need = ["time", "momentum_x", "momentum_y", "momentum_z", "momentum_Q"]
-        have = [h for h in need if h in c]
-        if "time" in c and "momentum_Q" in c:
-            note(surge.write_table_csv(have, np.column_stack([c[h] for h in have]),
-                                       os.path.join(post, "momentum.csv")))
-            plot(os.path.join(post, "momentum_Q.png"), c["time"], [("Q", c["momentum_Q"])],
-                 "time [s]", "Q = |sum_i m_i v_i| / M", "linear momentum Q(t) (M = number of fluid particles)")
-        else:
-            print("diagnostics.csv lacks time/momentum_Q; no momentum plot")
-    else:
-        print("no diagnostics.csv in %s; no momentum plot" % run)
-
+        try:
+            compare(a.run, a.compare, post)
+        except ValueError as e:
+            print("postprocess: error: %s" % e, file=sys.stderr)
+            return 2
     if not a.no_snapshots:
-        snapshots(run, post, choose_times(times, floats(a.times)))
-
+        snapshots(a.run, a.compare, post, choose_times(times, floats(a.times)))
     print("postprocess: %d file(s) written to %s" % (len(WRITTEN), post))
     return 0
 

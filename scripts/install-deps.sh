@@ -17,9 +17,14 @@ for p in "${PACKAGES[@]}"; do
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#PACKAGES[@]} packages present"
-  exit 0
+else
+  echo "install-deps: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+  echo "install-deps: done"
 fi
-echo "install-deps: installing ${missing[*]}"
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
-echo "install-deps: done"
+# ParaView 5.11 cannot load Python plugins on Python 3.11 without this start-up fix (paraview/README.md);
+# installed with ParaView's own Python into its site directory
+if ! $SUDO pvpython "$(dirname "$0")/../paraview/install_compat.py"; then
+  echo "install-deps: WARNING: the ParaView plugin fix was not installed; see paraview/README.md" >&2
+fi

@@ -8,7 +8,8 @@ bash scripts/build.sh
 run=runs/dam_break_2d_paper
 ./build/release/bin/varsph run pipelines/dam_break_2d_paper.json -o "$run" --overwrite
 if [ -f paraview/postprocess.py ]; then
-  xvfb-run -a pvpython paraview/postprocess.py "$run"
+  xvfb-run -a -s -noreset pvpython paraview/postprocess.py "$run"
 fi
 echo
-echo "Open $run/dam_break_2d_paper.pvd in ParaView; pictures and tables are in $run/post/"
+echo "Pictures and tables are in $run/post/. Open the run in ParaView (plugin loaded, a state shown):"
+echo "  ./build/release/bin/varsph paraview $run [--state free_surface|pressure]"

@@ -1,16 +1,30 @@
-"""State (3): deviation between two runs, run A's fluid coloured by |q_A - q_B| (particles matched by id).
+"""State (3): deviation between two runs at times both have, run A coloured by |q_A - q_B|.
 
-    pvpython paraview/states/deviation.py RUN_A RUN_B [--time T] [--range lo,hi] [--screenshot out.png]
+    GUI:      VARSPH_RUN_DIR=RUN_A VARSPH_OTHER_RUN_DIR=RUN_B paraview --state=/path/to/varsph/paraview/states/deviation.py
+              (or varsph paraview RUN_A RUN_B --state deviation; without the variables: the working directory)
+    pvpython: pvpython paraview/states/deviation.py RUN_A RUN_B [--time T] [--range lo,hi] [--screenshot out.png]
+See varsph/statecli.py and paraview/README.md.
 """
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import _state_cli  # noqa: E402
 
-args = _state_cli.parse(__doc__, two_runs=True)
-from varsph import pvstate  # noqa: E402
+def _varsph_on_path():
+    """Put paraview/ (the varsph package) on sys.path: next to this file, else where the loaded plugin or
+    $VARSPH_PARAVIEW_DIR / $PV_PLUGIN_PATH say (the GUI may run a state without __file__)."""
+    here = [os.path.dirname(os.path.dirname(os.path.abspath(__file__)))] if "__file__" in globals() else []
+    env = [os.environ.get("VARSPH_PARAVIEW_DIR", "")] + [os.path.dirname(os.path.normpath(p)) for p in
+                                                         os.environ.get("PV_PLUGIN_PATH", "").split(os.pathsep) if p]
+    for d in here + [p for p in sys.path if p] + env:
+        if d and os.path.isfile(os.path.join(d, "varsph", "pvstate.py")):
+            if d not in sys.path:
+                sys.path.insert(0, d)
+            return
+    raise ImportError("cannot find the varsph package: load the varsph plugin (paraview/plugin/varsph_filters.py) "
+                      "or set VARSPH_PARAVIEW_DIR=/path/to/varsph/paraview")
 
-view = pvstate.deviation_state(args.run, args.other, time=args.time, drange=args.range,
-                               view=pvstate.new_view(args.size))
-_state_cli.finish(view, args)
+
+_varsph_on_path()
+from varsph import statecli  # noqa: E402
+
+statecli.main("deviation", __doc__)

@@ -1,19 +1,30 @@
-"""State (1): free-surface particles coloured by pressure.
+"""State (1): the free surface (Marrone et al. 2010), free-surface particles coloured by speed.
 
-    pvpython paraview/states/free_surface.py RUN_DIR [--time T] [--surface] [--screenshot out.png]
-(rendering off-screen: xvfb-run -a pvpython ...).  GUI: View > Python Shell > Run Script, with
-VARSPH_RUN_DIR set in the environment of ParaView.
+    GUI:      VARSPH_RUN_DIR=RUN paraview --state=/path/to/varsph/paraview/states/free_surface.py
+              (or varsph paraview RUN --state free_surface; without the variables: the working directory)
+    pvpython: pvpython paraview/states/free_surface.py RUN [--time T] [--range lo,hi] [--screenshot out.png]
+See varsph/statecli.py and paraview/README.md.
 """
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import _state_cli  # noqa: E402
 
-surface = "--surface" in sys.argv
-args = _state_cli.parse(__doc__, argv=[a for a in sys.argv[1:] if a != "--surface"])
-from varsph import pvstate  # noqa: E402
+def _varsph_on_path():
+    """Put paraview/ (the varsph package) on sys.path: next to this file, else where the loaded plugin or
+    $VARSPH_PARAVIEW_DIR / $PV_PLUGIN_PATH say (the GUI may run a state without __file__)."""
+    here = [os.path.dirname(os.path.dirname(os.path.abspath(__file__)))] if "__file__" in globals() else []
+    env = [os.environ.get("VARSPH_PARAVIEW_DIR", "")] + [os.path.dirname(os.path.normpath(p)) for p in
+                                                         os.environ.get("PV_PLUGIN_PATH", "").split(os.pathsep) if p]
+    for d in here + [p for p in sys.path if p] + env:
+        if d and os.path.isfile(os.path.join(d, "varsph", "pvstate.py")):
+            if d not in sys.path:
+                sys.path.insert(0, d)
+            return
+    raise ImportError("cannot find the varsph package: load the varsph plugin (paraview/plugin/varsph_filters.py) "
+                      "or set VARSPH_PARAVIEW_DIR=/path/to/varsph/paraview")
 
-view = pvstate.free_surface_state(args.run, time=args.time, surface=surface, prange=args.range,
-                                  view=pvstate.new_view(args.size))
-_state_cli.finish(view, args)
+
+_varsph_on_path()
+from varsph import statecli  # noqa: E402
+
+statecli.main("free_surface", __doc__)

@@ -1,15 +1,30 @@
-"""State (2): fluid pressure with a fixed colour map (range of the first frame, or --range lo,hi) and bar.
+"""State (2): fluid pressure, colour range from the 1st-99th percentiles of each frame.
 
-    pvpython paraview/states/pressure.py RUN_DIR [--time T] [--range lo,hi] [--screenshot out.png]
+    GUI:      VARSPH_RUN_DIR=RUN paraview --state=/path/to/varsph/paraview/states/pressure.py
+              (or varsph paraview RUN --state pressure; without the variables: the working directory)
+    pvpython: pvpython paraview/states/pressure.py RUN [--time T] [--range lo,hi] [--screenshot out.png]
+See varsph/statecli.py and paraview/README.md.
 """
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import _state_cli  # noqa: E402
 
-args = _state_cli.parse(__doc__)
-from varsph import pvstate  # noqa: E402
+def _varsph_on_path():
+    """Put paraview/ (the varsph package) on sys.path: next to this file, else where the loaded plugin or
+    $VARSPH_PARAVIEW_DIR / $PV_PLUGIN_PATH say (the GUI may run a state without __file__)."""
+    here = [os.path.dirname(os.path.dirname(os.path.abspath(__file__)))] if "__file__" in globals() else []
+    env = [os.environ.get("VARSPH_PARAVIEW_DIR", "")] + [os.path.dirname(os.path.normpath(p)) for p in
+                                                         os.environ.get("PV_PLUGIN_PATH", "").split(os.pathsep) if p]
+    for d in here + [p for p in sys.path if p] + env:
+        if d and os.path.isfile(os.path.join(d, "varsph", "pvstate.py")):
+            if d not in sys.path:
+                sys.path.insert(0, d)
+            return
+    raise ImportError("cannot find the varsph package: load the varsph plugin (paraview/plugin/varsph_filters.py) "
+                      "or set VARSPH_PARAVIEW_DIR=/path/to/varsph/paraview")
 
-view = pvstate.pressure_state(args.run, time=args.time, prange=args.range, view=pvstate.new_view(args.size))
-_state_cli.finish(view, args)
+
+_varsph_on_path()
+from varsph import statecli  # noqa: E402
+
+statecli.main("pressure", __doc__)

@@ -62,6 +62,25 @@ def match_times(times_a, times_b, tol=TIME_TOLERANCE):
     return out
 
 
+def common_pair(pairs, t, tol=TIME_TOLERANCE):
+    """The (t_A, t_B) of ``pairs`` (common times, increasing) compared at time ``t``: the latest at or before
+    t, the first one before the first. None when there is no common time."""
+    if not pairs:
+        return None
+    best = pairs[0]
+    for p in pairs:
+        if p[0] <= t + tol:
+            best = p
+    return best
+
+
+def common_times(run_a, run_b, tol=TIME_TOLERANCE):
+    """[(t_A, t_B)] of the frames both runs have (|t_A - t_B| <= tol), in A's order."""
+    ta = [t for t, _ in frames_of_run(run_a)]
+    tb = [t for t, _ in frames_of_run(run_b)]
+    return [(ta[i], tb[j]) for i, j in match_times(ta, tb, tol)]
+
+
 def deviation_series(run_a, run_b, tol=TIME_TOLERANCE):
     """Rows (time, D_max, D_mean, D_rms) over the matched times of two runs (directories or .pvd files)."""
     fa = frames_of_run(run_a)

@@ -97,15 +97,55 @@ def frame_from_vtk(dataset, time=None, path=None):
     return Frame(points, arrays, fields, time=time, path=path)
 
 
+<<<<<<< HEAD
 def read_vtu(path, time=None):
     """Read one frame written by the solver: a .vtu, or the .pvtu of a run on several MPI ranks."""
     from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader, vtkXMLUnstructuredGridReader
     if not os.path.isfile(path):
         raise FileNotFoundError("frame file not found: %s" % path)
     r = vtkXMLPUnstructuredGridReader() if path.endswith(".pvtu") else vtkXMLUnstructuredGridReader()
+=======
+def read_dataset(path):
+    """The vtkDataSet of one frame file: .vtu, or .pvtu pieces (merged by VTK's parallel reader), or any
+    other VTK XML dataset a .pvd may list."""
+    from vtkmodules.vtkIOXML import (vtkXMLGenericDataObjectReader, vtkXMLPUnstructuredGridReader,
+                                     vtkXMLUnstructuredGridReader)
+    if not os.path.isfile(path):
+        raise FileNotFoundError("frame file not found: %s" % path)
+    ext = os.path.splitext(path)[1].lower()
+    r = {".vtu": vtkXMLUnstructuredGridReader, ".pvtu": vtkXMLPUnstructuredGridReader}.get(
+        ext, vtkXMLGenericDataObjectReader)()
+>>>>>>> main
     r.SetFileName(path)
     r.Update()
-    return frame_from_vtk(r.GetOutput(), time=time, path=path)
+    out = r.GetOutputDataObject(0)
+    if out is None or not out.IsA("vtkDataSet"):
+        raise ValueError("%s: not a readable VTK dataset" % path)
+    return out
+
+
+def point_array(data, name):
+    """numpy copy of point array ``name`` of a vtkDataSet or of all leaves of a composite; None if absent."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    if data is None:
+        return None
+    if data.IsA("vtkCompositeDataSet"):
+        parts = []
+        it = data.NewIterator()
+        it.InitTraversal()
+        while not it.IsDoneWithTraversal():
+            v = point_array(it.GetCurrentDataObject(), name)
+            if v is not None:
+                parts.append(v)
+            it.GoToNextItem()
+        return np.concatenate(parts) if parts else None
+    a = data.GetPointData().GetArray(name) if data.IsA("vtkDataSet") else None
+    return vtk_to_numpy(a).copy() if a is not None else None
+
+
+def read_vtu(path, time=None):
+    """Read one frame written by the solver (.vtu, or .pvtu with its pieces)."""
+    return frame_from_vtk(read_dataset(path), time=time, path=path)
 
 
 def read_pvd(path):
@@ -125,11 +165,15 @@ def read_pvd(path):
 
 
 def find_pvd(run):
-    """The run's .pvd: ``run`` itself if it is a .pvd file, else the single RUN/*.pvd (not deviation.pvd)."""
+    """The run's time series: ``run`` itself if it is a file (.pvd, or one frame file), else the single
+    RUN/*.pvd (not deviation.pvd), else the single RUN/*.vtu (what `varsph sample` writes)."""
     if os.path.isfile(run):
         return run
     cands = sorted(p for p in glob.glob(os.path.join(run, "*.pvd")) if os.path.basename(p) != "deviation.pvd")
     if not cands:
+        vtus = sorted(glob.glob(os.path.join(run, "*.vtu")))
+        if len(vtus) == 1:
+            return vtus[0]
         raise FileNotFoundError("no .pvd time series in run directory %s" % run)
     if len(cands) > 1:
         name = os.path.basename(os.path.normpath(run)) + ".pvd"
@@ -139,9 +183,49 @@ def find_pvd(run):
     return cands[0]
 
 
+def entries_of(path):
+    """[(time, frame file)] of a .pvd, or of a single frame file (its field data time, else 0)."""
+    if path.lower().endswith(".pvd"):
+        return read_pvd(path)
+    f = read_vtu(path)
+    return [(float(f.fields.get("time", 0.0)), os.path.abspath(path))]
+
+
+def resolve_run(directory="", variable="VARSPH_RUN_DIR"):
+    """The .pvd of a run: ``directory`` (a run directory or its .pvd) when given, else the directory named by
+    the environment variable ``variable``, else the working directory when it holds a .pvd.
+    Raises FileNotFoundError naming what was tried."""
+    if directory:
+        return os.path.abspath(find_pvd(os.path.expanduser(directory)))
+    from_env = os.environ.get(variable, "") if variable else ""
+    if from_env:
+        try:
+            return os.path.abspath(find_pvd(os.path.expanduser(from_env)))
+        except FileNotFoundError as e:
+            raise FileNotFoundError("%s (from $%s)" % (e, variable)) from None
+    try:
+        return os.path.abspath(find_pvd(os.getcwd()))
+    except FileNotFoundError:
+        raise FileNotFoundError("no run given: set Run Directory, or $%s, or start ParaView in a run directory "
+                                "(the working directory %s has no .pvd)" % (variable or "VARSPH_RUN_DIR", os.getcwd())) \
+            from None
+
+
+def entry_at(entries, t, tol=1e-9):
+    """The (time, path) entry shown at time ``t``: the latest at or before t (ParaView's convention for a
+    time between frames), the first one before the first."""
+    best = entries[0]
+    for e in entries:
+        if e[0] <= t + tol:
+            best = e
+        else:
+            break
+    return best
+
+
 def frames_of_run(run):
     """[(time, vtu path)] of a run directory or .pvd file."""
-    return read_pvd(find_pvd(run))
+    return entries_of(find_pvd(run))
 
 
 def read_run(run, times=None, tol=1e-9):

@@ -48,3 +48,15 @@ def probe_series(run, probes, array="pressure", frames=None):
         times.append(fr.time)
         vals.append(v)
     return np.asarray(times), np.asarray(vals).reshape(len(times), len(np.atleast_2d(probes)))
+
+
+def smooth_field(frame, array="pressure", kernel=None):
+    """Per-particle Shepard SPH average of ``array`` over the fluid neighbours (the probe interpolation
+    above evaluated at each fluid particle): sum_j V_j f_j W_ij / sum_j V_j W_ij. Boundary particles keep
+    their own value. Damps the particle-scale pressure noise of weakly compressible SPH for pictures."""
+    f = np.asarray(frame.arrays[array], dtype=float).reshape(len(frame), -1)[:, 0].copy()
+    fl = np.nonzero(frame.fluid_mask())[0]
+    if len(fl):
+        vals, _ = probe_pressure(frame, frame.points[fl, :frame.dimension], kernel=kernel, array=array)
+        f[fl] = np.where(np.isfinite(vals), vals, f[fl])
+    return f

@@ -1,112 +1,186 @@
-"""ParaView pipelines behind the state scripts (paraview/states/*.py) and postprocess.py snapshots.
+"""ParaView pipelines behind the states (paraview/states/), the postprocess.py pictures and `varsph paraview`.
 
-Needs ``paraview.simple`` (pvpython); rendering without a display needs ``xvfb-run -a pvpython``.
-Every function takes the run directory (or its .pvd), so the states work from any working directory.
+Needs ``paraview.simple`` (pvpython, or the GUI's Python); rendering without a display needs
+``xvfb-run -a -s -noreset`` (paraview/README.md). Every state reads its run through the plugin's *varsph Run*
+source, so a state built with ``run=None`` (what the bundled .pvsm files hold) reads ``$VARSPH_RUN_DIR``
+(run B: ``$VARSPH_OTHER_RUN_DIR``) or the working directory when it is loaded, and one saved state opens any run.
+
+What every state shows (issue 17): one full-size render view in its own layout, particles as Point Gaussian
+discs of diameter dx, the camera fitted to where the fluid goes during the run with the colour bar beside
+it, ParaView's own time annotation (Annotate Time), and colour ranges taken per frame from robust
+percentiles of the shown field (a Python animation cue re-applies them whenever the time changes, in the
+GUI as in pvpython).
 """
 import os
 import sys
 
 import numpy as np
 
-from .compat import load_plugin
-from .io import find_pvd, frames_of_run, read_vtu, vertical_axis
+from .compat import load_plugin, plugin_loaded
+from .io import frames_of_run, point_array, read_vtu, vertical_axis
 
 PRESSURE_LUT = "Cool to Warm"
-DEVIATION_LUT = "Viridis (matplotlib)"
-_loaded = {"__varsph__": True}   # non-empty: LoadPlugin ignores an empty ns
+SPEED_LUT = "Viridis (matplotlib)"
+DEVIATION_LUT = "Inferno (matplotlib)"
+PRESSURE_PERCENTILES = (1.0, 99.0)     # robust per-frame range of pressure (noise at the walls excluded)
+SPEED_PERCENTILES = (0.0, 99.0)
+DEVIATION_PERCENTILES = (0.0, 98.0)    # D_max is set by a few particles; the map shows the bulk
+ENV_RUN = "VARSPH_RUN_DIR"
+ENV_OTHER = "VARSPH_OTHER_RUN_DIR"
+WALL_GREY = [0.55, 0.55, 0.55]
+FLUID_PALE = [0.72, 0.82, 0.93]
 
 
 def pv():
-    """paraview.simple with the varsph filters loaded (once)."""
+    """paraview.simple with the varsph plugin loaded (once) and its proxies as simple.varsphRun, ... (a plugin
+    loaded by --plugins, or by LoadPlugin(..., ns=globals()) in the GUI's shell, is not in simple yet)."""
     from paraview import simple
-    if "varsphFreeSurface" not in _loaded:
-        load_plugin(ns=_loaded)
+    if not plugin_loaded():
+        load_plugin()
+    if not hasattr(simple, "varsphRun") and hasattr(simple, "_add_functions"):
+        simple._add_functions(vars(simple))
     return simple
 
 
-def filters():
-    pv()
-    return _loaded
+# --- the run -----------------------------------------------------------------------------------------
+def resolve(run, variable=ENV_RUN):
+    """Run directory of ``run``, or of the environment / working directory when ``run`` is None."""
+    from .io import resolve_run
+    return os.path.dirname(resolve_run(os.path.abspath(run) if run else "", variable))
 
 
-def pressure_range(run, frame_index=0):
-    """Fixed colour range: fluid pressure of one frame (default the first), widened to include 0."""
-    fr = frames_of_run(run)
-    f = read_vtu(fr[frame_index][1], fr[frame_index][0])
-    p = np.asarray(f.arrays.get("pressure", np.zeros(1)), dtype=float)[f.fluid_mask()]
-    lo, hi = (float(min(0.0, p.min())), float(max(0.0, p.max()))) if len(p) else (0.0, 1.0)
-    if hi <= lo:
-        hi = lo + 1.0
-    return lo, hi
+class RunInfo:
+    """What the pictures need to know about a run: dimension, dx, the vertical axis, frame times and the
+    box the fluid occupies over the run (union over up to 5 frames spread over the run)."""
+
+    def __init__(self, run):
+        self.run = run
+        self.frames = frames_of_run(run)
+        if not self.frames:
+            raise ValueError("run %s has no frames" % run)
+        self.times = [t for t, _ in self.frames]
+        picks = sorted(set(int(round(k)) for k in np.linspace(0, len(self.frames) - 1, min(5, len(self.frames)))))
+        lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+        first = None
+        for k in picks:
+            f = read_vtu(self.frames[k][1], self.frames[k][0])
+            first = first or f
+            x = f.points[f.fluid_mask()] if f.fluid_mask().any() else f.points
+            if len(x):
+                lo, hi = np.minimum(lo, x.min(axis=0)), np.maximum(hi, x.max(axis=0))
+        self.arrays = set(first.arrays)          # point arrays of the frames
+        self.dimension = first.dimension
+        self.dx = first.dx if "dx" in first.fields else float(np.max(hi - lo)) / 50.0
+        self.up = vertical_axis(run, self.dimension)
+        pad = 3.0 * self.dx   # the first wall layers stay in the picture
+        self.lo, self.hi = lo - pad, hi + pad
+        if self.dimension == 2:
+            self.lo[2] = self.hi[2] = 0.0
 
 
-def pick_time(reader, time=None):
-    ts = list(reader.TimestepValues) if hasattr(reader.TimestepValues, "__len__") else [reader.TimestepValues]
-    if not ts:
-        return 0.0
-    if time is None:
-        return ts[-1]
-    return min(ts, key=lambda t: abs(t - time))
+# --- views ---------------------------------------------------------------------------------------------
+def _empty_active_view(s):
+    """The active render view when it is alone in its layout and shows nothing (the GUI's start-up view)."""
+    v = s.GetActiveView()
+    if v is None or v.GetXMLName() != "RenderView":
+        return None
+    if any(r.Visibility for r in v.Representations if hasattr(r, "Visibility")):
+        return None
+    layout = s.GetLayout(v)
+    if layout is not None and len(s.GetViewsInLayout(layout)) > 1:
+        return None
+    return v
 
 
-def open_run(run, name=None):
+def new_view(size=None, name="varsph"):
+    """A render view alone in its own layout (never a split of the user's layout). ``size`` (w, h) sets the
+    render size for pvpython; in the GUI the window decides."""
     s = pv()
-    pvd = find_pvd(run)
-    r = s.PVDReader(registrationName=name or os.path.basename(os.path.dirname(os.path.abspath(pvd))),
-                    FileName=os.path.abspath(pvd))
-    r.UpdatePipelineInformation()
-    return r
-
-
-def _dimension_and_dx(run):
-    fr = frames_of_run(run)
-    f = read_vtu(fr[0][1], fr[0][0])
-    return f.dimension, (f.dx if "dx" in f.fields else 1.0)
-
-
-def _up(run):
-    dim, _ = _dimension_and_dx(run)
-    return vertical_axis(run, dim)
-
-
-def new_view(size=(1200, 700)):
-    s = pv()
-    view = s.CreateView("RenderView")
-    view.ViewSize = list(size)
+    view = _empty_active_view(s)
+    if view is None:
+        view = s.CreateView("RenderView", registrationName=name + " view")
+        try:
+            layout = s.CreateLayout(name)
+            s.AssignViewToLayout(view=view, layout=layout, hint=0)
+        except Exception:
+            s.AssignViewToLayout(view)
+    if size:
+        view.ViewSize = list(size)
     view.OrientationAxesVisibility = 0
-    view.Background = [1.0, 1.0, 1.0]
     try:
         view.UseColorPaletteForBackground = 0
     except AttributeError:
         pass
-    try:  # in the GUI the view must sit in a layout to be visible
-        s.AssignViewToLayout(view)
-    except Exception:
-        pass
+    view.Background = [1.0, 1.0, 1.0]
     s.SetActiveView(view)
     return view
 
 
-def _points(src, view, dx, color=None, opacity=1.0):
+def _aspect(view):
+    w, h = list(view.ViewSize) if view.ViewSize else (0, 0)
+    return w / h if w > 50 and h > 50 else 1.6
+
+
+def fit_camera(view, info, bar_fraction=0.18):
+    """Fit the camera to the fluid's box over the run, leaving the right ``bar_fraction`` of the view for
+    the colour bar and the top 14 % for the labels. 2D: looking down -z, parallel projection; 3D: oblique,
+    the axis opposite to gravity up."""
+    s = pv()
+    s.Render(view)   # paraview.simple resets the camera at a view's first render: let it happen first
+    lo, hi = info.lo, info.hi
+    c = 0.5 * (lo + hi)
+    cam = view.GetActiveCamera()
+    if info.dimension == 2:
+        view.InteractionMode = "2D"
+        view.CameraParallelProjection = 1
+        a = _aspect(view)
+        w, h = hi[0] - lo[0], hi[1] - lo[1]
+        scale = max(h / (2 * 0.82), w / (2 * a * (1.0 - bar_fraction - 0.03)))
+        cx = c[0] + (bar_fraction / 2) * 2 * scale * a
+        cy = lo[1] + 0.92 * scale
+        cam.SetFocalPoint(cx, cy, 0.0)
+        cam.SetPosition(cx, cy, 10.0 * max(w, h, 1e-6))
+        cam.SetViewUp(0.0, 1.0, 0.0)
+        cam.SetParallelScale(scale)
+        view.CameraParallelScale = scale
+    else:
+        up = [0.0, 0.0, 0.0]
+        up[info.up] = 1.0
+        others = [k for k in range(3) if k != info.up]
+        d = [0.0, 0.0, 0.0]
+        d[others[0]], d[others[1]], d[info.up] = 0.6, -1.0, 0.7
+        cam.SetFocalPoint(*c)
+        cam.SetPosition(*(c + np.asarray(d)))
+        cam.SetViewUp(*up)
+        view.ResetCamera(float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]), float(lo[2]), float(hi[2]))
+        cam.Dolly(0.85)
+    s.Render(view)
+
+
+def _points(src, view, dx, colour=None, opacity=1.0, scale=1.0):
+    """Point Gaussian discs of diameter ``scale`` * dx (the particle spacing)."""
     s = pv()
     d = s.Show(src, view)
     d.SetRepresentationType("Point Gaussian")
-    d.GaussianRadius = 0.5 * dx
+    d.GaussianRadius = 0.5 * dx * scale
     d.ShaderPreset = "Plain circle"
-    if color is not None:
-        d.ColorArrayName = ['POINTS', '']
-        d.AmbientColor = color
-        d.DiffuseColor = color
+    try:
+        d.ScaleByArray = 0
+    except AttributeError:
+        pass
+    if colour is not None:
+        d.ColorArrayName = ["POINTS", ""]
+        d.AmbientColor = colour
+        d.DiffuseColor = colour
     d.Opacity = opacity
     return d
 
 
-def _color(display, view, array, lut_name, rng, title):
+def _colour_bar(display, view, array, component, lut_name, title, fmt="%-.4g"):
     s = pv()
-    s.ColorBy(display, ("POINTS", array))
+    s.ColorBy(display, ("POINTS", array) if component is None else ("POINTS", array, component))
     lut = s.GetColorTransferFunction(array)
     lut.ApplyPreset(lut_name, True)
-    lut.RescaleTransferFunction(rng[0], rng[1])
     lut.AutomaticRescaleRangeMode = "Never"
     display.SetScalarBarVisibility(view, True)
     bar = s.GetScalarBar(lut, view)
@@ -114,166 +188,386 @@ def _color(display, view, array, lut_name, rng, title):
     bar.ComponentTitle = ""
     bar.TitleColor = [0, 0, 0]
     bar.LabelColor = [0, 0, 0]
+    bar.TitleFontSize = 16
+    bar.LabelFontSize = 14
+    bar.Orientation = "Vertical"
+    bar.WindowLocation = "Any Location"
+    bar.Position = [0.87, 0.12]
+    bar.ScalarBarLength = 0.7
+    bar.RangeLabelFormat = fmt
+    bar.AutomaticLabelFormat = 1
     return lut
 
 
-def _camera(view, dim, up=2):
-    """2D: look down -z. 3D: oblique view with the vertical axis (opposite gravity) up."""
-    s = pv()
-    view.ResetCamera()
-    cam = view.GetActiveCamera()
-    fp = cam.GetFocalPoint()
-    if dim == 2:
-        view.InteractionMode = "2D"
-        cam.SetPosition(fp[0], fp[1], fp[2] + 10.0)
-        cam.SetViewUp(0, 1, 0)
-    else:
-        upv = [0.0, 0.0, 0.0]
-        upv[up] = 1.0
-        # look from +x... rotated so that 'up' is up: a direction with components on the other two axes
-        others = [k for k in range(3) if k != up]
-        d = [0.0, 0.0, 0.0]
-        d[others[0]] = 0.6
-        d[others[1]] = -1.0
-        d[up] = 0.7
-        cam.SetPosition(fp[0] + d[0], fp[1] + d[1], fp[2] + d[2])
-        cam.SetViewUp(*upv)
-    view.ResetCamera()
-    s.Render(view)
-
-
-def _label(view, text):
-    s = pv()
-    t = s.Text(Text=text)
-    d = s.Show(t, view)
+def _label_style(d, location, size):
+    """Black text on a white, slightly transparent box (readable over walls and particles)."""
     d.Color = [0, 0, 0]
-    d.WindowLocation = "Upper Left Corner"
-    d.FontSize = 14
+    d.WindowLocation = location
+    d.FontSize = size
+    try:
+        d.BackgroundColor = [1.0, 1.0, 1.0, 0.8]
+    except Exception:
+        pass
+    return d
+
+
+def _text(view, text, location="Upper Left Corner", size=15, name=None):
+    s = pv()
+    t = s.Text(registrationName=name, Text=text) if name else s.Text(Text=text)
+    _label_style(s.Show(t, view), location, size)
     return t
 
 
-_STATES = {}
-
-
-def _set_time(view, t):
+def time_annotation(view, src):
+    """ParaView's own time annotation (Annotate Time Filter) of the data shown: the time of the frame
+    ``src`` outputs ('t = 0.300 s'), which is the frame on screen even when the animation time is not a
+    frame time of this run."""
     s = pv()
-    view.ViewTime = t
+    a = s.AnnotateTimeFilter(registrationName="Time", Input=src)
+    a.Format = "t = {time:.3f} s"
+    _label_style(s.Show(a, view), "Upper Right Corner", 18)
+    return a
+
+
+# --- robust per-frame colour ranges ----------------------------------------------------------------------
+def percentile_range(values, pct, floor0=False):
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if len(v) == 0:
+        return 0.0, 1.0
+    lo, hi = (float(x) for x in np.percentile(v, pct))
+    if floor0:
+        lo = 0.0
+    if not hi > lo:
+        pad = max(abs(hi), 1.0) * 1e-6
+        lo, hi = lo - pad, hi + pad
+    return lo, hi
+
+
+def _output_at(src, t):
+    """The data of ``src`` at time ``t``: the algorithm's own output in a built-in session (GUI, pvpython),
+    else fetched from the server."""
+    src.UpdatePipeline(t)
+    algo = src.GetClientSideObject()
+    if algo is not None and algo.GetOutputDataObject(0) is not None:
+        return algo.GetOutputDataObject(0)
+    from paraview import servermanager as sm
+    return sm.Fetch(src)
+
+
+def robust_rescale(source_name, array, lut_array, pct, floor0=False, t=None):
+    """Set the colour range of ``lut_array`` (one name or several) to the ``pct`` percentiles of ``array``
+    (magnitude for vectors) in the output of source ``source_name`` at time ``t``. Returns (lo, hi), or None
+    without data."""
+    s = pv()
+    src = s.FindSource(source_name)
+    if src is None:
+        return None
+    v = point_array(_output_at(src, t), array)
+    if v is None:
+        return None
+    if v.ndim > 1:
+        v = np.linalg.norm(v, axis=1)
+    lo, hi = percentile_range(v, pct, floor0)
+    for name in (lut_array,) if isinstance(lut_array, str) else lut_array:
+        s.GetColorTransferFunction(name).RescaleTransferFunction(lo, hi)
+    return lo, hi
+
+
+_FITTED = {}   # view name -> run directory the camera was last fitted to
+
+
+def on_time(view_name, reader_name, calls, t, fitted_for=""):
+    """What the state's animation cue does at every time change (GUI, pvpython, after loading a .pvsm):
+    fit the camera when the view shows a run other than ``fitted_for`` (the run the saved camera was fitted
+    to; "" for a portable state) the first time it shows it, and set the robust colour ranges of ``calls``
+    (robust_rescale arguments) for time ``t``."""
     try:
-        s.GetAnimationScene().AnimationTime = t
-    except Exception:
-        pass
+        s = pv()
+        view = s.FindView(view_name) or s.GetActiveView()
+        reader = s.FindSource(reader_name)
+        if view is not None and reader is not None:
+            reader.UpdatePipelineInformation()
+            pvd = reader.GetProperty("ResolvedFile").GetElement(0) if reader.GetProperty("ResolvedFile") else ""
+            run = os.path.dirname(pvd) if pvd else ""
+            if run and view_name not in _FITTED and run == fitted_for:
+                _FITTED[view_name] = run            # the saved camera is this run's: keep it
+            if run and _FITTED.get(view_name) != run:
+                info = RunInfo(run)
+                for d in view.Representations:   # particles of this run's size
+                    if getattr(d, "Representation", None) == "Point Gaussian":
+                        d.GaussianRadius = 0.5 * info.dx
+                fit_camera(view, info)
+                _FITTED[view_name] = run
+        for c in calls:
+            robust_rescale(*c, t=t)
+    except Exception as e:  # a cue must not break the time slider of the GUI: say why and go on
+        print("varsph: view not updated at t = %s (%s)" % (t, e), file=sys.stderr)
 
 
-def _register(view, label, fmt, **extra):
-    _STATES[view.GetGlobalIDAsString()] = dict(label=label, fmt=fmt, **extra)
+_CUE_SCRIPT = '''
+def start_cue(self):
+    pass
+
+def tick(self):
+    from varsph import pvstate
+    pvstate.on_time({view!r}, {reader!r}, {calls!r}, self.GetClockTime(), {fitted_for!r})
+
+def end_cue(self):
+    pass
+'''
+
+
+def add_cue(view_name, reader_name, calls, fitted_for=""):
+    """A Python animation cue, saved with the state, that runs ``on_time`` at every time change."""
+    s = pv()
+    from paraview import servermanager as sm
+    cue = sm.animation.PythonAnimationCue()
+    sm.ProxyManager().RegisterProxy("animation", "varsph view update", cue)   # saved with the state
+    # relative time with an unbounded window: the cue ticks at every time, also at a time beyond the end of
+    # a run (a portable state saved at t = 1 s opened on a run that ends earlier)
+    cue.TimeMode = "Relative"
+    cue.StartTime = -1e30
+    cue.EndTime = 1e30
+    cue.Script = _CUE_SCRIPT.format(view=view_name, reader=reader_name, calls=[tuple(c) for c in calls],
+                                    fitted_for=fitted_for)
+    s.GetAnimationScene().Cues.append(cue)
+    return cue
+
+
+# --- time --------------------------------------------------------------------------------------------------
+def pick_time(times, time=None):
+    """The frame time shown for a requested ``time``: the nearest one (default: the last)."""
+    if not times:
+        return 0.0
+    if time is None:
+        return times[-1]
+    return min(times, key=lambda t: abs(t - time))
+
+
+def view_name(view):
+    from paraview import servermanager as sm
+    return sm.ProxyManager().GetProxyName("views", view)
 
 
 def set_time(view, t):
-    """Show time ``t`` (nearest frame) in a view built by one of the *_state functions."""
-    st = _STATES.get(view.GetGlobalIDAsString())
-    _set_time(view, t)
-    if st:
-        extra = {}
-        if "deviation" in st:
-            extra["dmax"] = _dmax(st["deviation"], t)
-        st["label"].Text = st["fmt"].format(t=t, **extra)
-    pv().Render(view)
-
-
-def free_surface_state(run, time=None, surface=False, prange=None, view=None):
-    """(1) free-surface particles coloured by pressure over the (faded) fluid; boundary in grey."""
+    """Show time ``t`` in a view built here (ranges and camera follow through the state's cue)."""
     s = pv()
-    f = filters()
-    dim, dx = _dimension_and_dx(run)
-    view = view or new_view()
-    r = open_run(run)
-    t = pick_time(r, time)
-    fs = f["varsphFreeSurface"](registrationName="FreeSurface", Input=r, ReconstructSurface=int(bool(surface)))
-    walls = s.Threshold(registrationName="Boundary", Input=r, Scalars=["POINTS", "kind"],
+    scene = s.GetAnimationScene()
+    scene.UpdateAnimationUsingDataTimeSteps()
+    scene.AnimationTime = t
+    view.ViewTime = t
+    st = _STATES.get(view_name(view))
+    if st:
+        on_time(view_name(view), st[0], st[1], t)
+    s.Render(view)
+
+
+_STATES = {}   # view name -> (reader name, robust_rescale calls) of the state it shows
+
+
+def _finish(view, info, reader_name, calls, times, time, portable):
+    name = view_name(view)
+    _STATES[name] = (reader_name, list(calls))
+    add_cue(name, reader_name, calls, "" if portable else info.run)
+    fit_camera(view, info)
+    _FITTED[name] = info.run
+    set_time(view, pick_time(times, time))
+    reader = pv().FindSource(reader_name)
+    if reader is not None:      # the Properties panel shows the run, not the last label made
+        pv().SetActiveSource(reader)
+    return view
+
+
+# --- the states --------------------------------------------------------------------------------------------
+def open_run(run=None, name="run", variable=ENV_RUN):
+    """The plugin's *varsph Run* source: ``run`` (absolute), or, with ``run=None``, ``$variable`` / the
+    working directory at every load (what makes a saved state portable)."""
+    s = pv()
+    r = s.varsphRun(registrationName=name, RunDirectory=os.path.abspath(run) if run else "", RunVariable=variable)
+    r.UpdatePipelineInformation()
+    return r
+
+
+def _fluid_and_walls(s, src, dx, view, prefix=""):
+    walls = s.Threshold(registrationName=prefix + "Walls", Input=src, Scalars=["POINTS", "kind"],
                         LowerThreshold=1, UpperThreshold=1)
-    fluid = s.Threshold(registrationName="Fluid", Input=r, Scalars=["POINTS", "kind"],
+    fluid = s.Threshold(registrationName=prefix + "Fluid", Input=src, Scalars=["POINTS", "kind"],
                         LowerThreshold=0, UpperThreshold=0)
-    surf = s.Threshold(registrationName="FreeSurfaceParticles", Input=fs, Scalars=["POINTS", "free_surface"],
-                       LowerThreshold=1, UpperThreshold=1)
-    _points(walls, view, dx, color=[0.45, 0.45, 0.45])
-    _points(fluid, view, dx, color=[0.75, 0.85, 0.95], opacity=1.0)
-    d = _points(surf, view, dx * 1.4)
-    _color(d, view, "pressure", PRESSURE_LUT, prange or pressure_range(run), "pressure [Pa]")
+    _points(walls, view, dx, colour=WALL_GREY)
+    return fluid
+
+
+def free_surface_state(run=None, time=None, surface=False, view=None, portable=False):
+    """(1) The free surface (Marrone et al. 2010): free-surface particles coloured by speed over the pale
+    fluid, walls grey; ``surface`` adds the reconstructed surface."""
+    s = pv()
+    run_dir = resolve(None if portable else run)
+    info = RunInfo(run_dir)
+    view = view or new_view(name="varsph free surface")
+    r = open_run(None if portable else run_dir)
+    fluid = _fluid_and_walls(s, r, info.dx, view)
+    _points(fluid, view, info.dx, colour=FLUID_PALE)
+    # on the whole run: walls are neighbours, so fluid wetting a wall is not a free surface
+    fs = s.varsphFreeSurface(registrationName="FreeSurface", Input=r, ReconstructSurface=int(bool(surface)))
+    surf = s.Threshold(registrationName="FreeSurfaceParticles", Input=s.OutputPort(fs, 0),
+                       Scalars=["POINTS", "free_surface"], LowerThreshold=1, UpperThreshold=1)
+    d = _points(surf, view, info.dx, colour=None if "velocity" in info.arrays else [0.1, 0.25, 0.6])
+    if "velocity" in info.arrays:      # (`varsph sample` output has no velocity: free surface in dark blue)
+        _colour_bar(d, view, "velocity", "Magnitude", SPEED_LUT, "speed [m/s]", fmt="%-.3g")
     if surface:
         sd = s.Show(s.OutputPort(fs, 1), view)
-        sd.ColorArrayName = ['POINTS', '']
-        if dim == 2:
+        sd.ColorArrayName = ["POINTS", ""]
+        if info.dimension == 2:
             sd.AmbientColor = sd.DiffuseColor = [0.1, 0.1, 0.1]
             sd.LineWidth = 2.0
         else:
             sd.AmbientColor = sd.DiffuseColor = [0.3, 0.55, 0.9]
             sd.Opacity = 0.35
-    lab = _label(view, "")
-    _register(view, lab, "free surface (Marrone et al. 2010)  t = {t:.4g} s")
-    set_time(view, t)
-    _camera(view, dim, _up(run))
-    return view
+    _text(view, "free surface (Marrone et al. 2010)%s" % (", particles coloured by speed" if "velocity" in info.arrays
+                                                           else ""), name="Title")
+    time_annotation(view, r)
+    calls = [("FreeSurfaceParticles", "velocity", "velocity", SPEED_PERCENTILES, True)] if "velocity" in info.arrays else []
+    return _finish(view, info, "run", calls, info.times, time, portable)
 
 
-def pressure_state(run, time=None, prange=None, view=None):
-    """(2) fluid pressure with a fixed colour map (range of the first frame unless given) and colour bar."""
+def pressure_state(run=None, time=None, prange=None, smoothed=False, view=None, portable=False):
+    """(2) Fluid pressure, per-frame colour range from the 1st-99th percentiles (or ``prange``);
+    ``smoothed`` colours the Shepard SPH average (varsph Smoothed Pressure) instead of the raw values."""
     s = pv()
-    dim, dx = _dimension_and_dx(run)
-    view = view or new_view()
-    r = open_run(run)
-    t = pick_time(r, time)
-    walls = s.Threshold(registrationName="Boundary", Input=r, Scalars=["POINTS", "kind"],
+    run_dir = resolve(None if portable else run)
+    info = RunInfo(run_dir)
+    if "pressure" not in info.arrays:
+        raise ValueError("the frames of %s have no point array 'pressure' (they have %s)"
+                         % (run_dir, ", ".join(sorted(info.arrays))))
+    view = view or new_view(name="varsph pressure")
+    r = open_run(None if portable else run_dir)
+    fluid = _fluid_and_walls(s, r, info.dx, view)
+    shown, array = fluid, "pressure"
+    if smoothed:
+        shown = s.varsphSmoothedPressure(registrationName="SmoothedPressure", Input=fluid)
+        array = "pressure_smoothed"
+    d = _points(shown, view, info.dx)
+    lut = _colour_bar(d, view, array, None, PRESSURE_LUT,
+                      "smoothed pressure [Pa]" if smoothed else "pressure [Pa]", fmt="%-.0f")
+    _text(view, "pressure (%s)%s" % ("SPH-smoothed" if smoothed else "particle values",
+                                     "" if prange else ", colours: 1st-99th percentile of the frame"),
+          name="Title")
+    time_annotation(view, r)
+    calls = [] if prange else [("SmoothedPressure" if smoothed else "Fluid", array, array, PRESSURE_PERCENTILES)]
+    if prange:
+        lut.RescaleTransferFunction(*prange)
+    return _finish(view, info, "run", calls, info.times, time, portable)
+
+
+def pressure_pair(run=None, time=None, size=None):
+    """Raw particle pressure beside the SPH-smoothed pressure (varsph Smoothed Pressure), one layout of two
+    views with the same colour range (1st-99th percentile of the raw values of the frame). Returns the
+    layout; the views follow the animation time like the states."""
+    s = pv()
+    run_dir = resolve(run)
+    info = RunInfo(run_dir)
+    layout = s.CreateLayout("varsph pressure raw | smoothed")
+    layout.SplitHorizontal(0, 0.5)
+    r = open_run(run_dir)
+    views = []
+    for cell, smoothed in ((1, False), (2, True)):
+        view = s.CreateView("RenderView", registrationName="varsph pressure %s view" % ("smoothed" if smoothed else "raw"))
+        s.AssignViewToLayout(view=view, layout=layout, hint=cell)
+        if size:
+            view.ViewSize = [size[0] // 2, size[1]]
+        view.OrientationAxesVisibility = 0
+        try:
+            view.UseColorPaletteForBackground = 0
+        except AttributeError:
+            pass
+        view.Background = [1.0, 1.0, 1.0]
+        views.append(view)
+    fluid = _fluid_and_walls(s, r, info.dx, views[0])
+    sm = s.varsphSmoothedPressure(registrationName="SmoothedPressure", Input=fluid)
+    walls = s.FindSource("Walls")
+    _points(walls, views[1], info.dx, colour=WALL_GREY)
+    for view, src, array, title in ((views[0], fluid, "pressure", "particle pressure"),
+                                    (views[1], sm, "pressure_smoothed",
+                                     "SPH-smoothed pressure (Shepard average over neighbours)")):
+        d = _points(src, view, info.dx)
+        _colour_bar(d, view, array, None, PRESSURE_LUT, "pressure [Pa]", fmt="%-.0f")
+        t = s.Text(registrationName="Title " + array, Text=title)
+        _label_style(s.Show(t, view), "Upper Left Corner", 15)
+        a = s.AnnotateTimeFilter(registrationName="Time " + array, Input=r)
+        a.Format = "t = {time:.3f} s"
+        _label_style(s.Show(a, view), "Upper Right Corner", 18)
+    calls = [("Fluid", "pressure", ("pressure", "pressure_smoothed"), PRESSURE_PERCENTILES)]
+    for view in views:
+        _STATES[view_name(view)] = ("run", calls)
+        fit_camera(view, info)
+        _FITTED[view_name(view)] = info.run
+    add_cue(view_name(views[0]), "run", calls, info.run)
+    set_time(views[0], pick_time(info.times, time))
+    return layout
+
+
+DEVIATION_NOTE = (
+    "'A - B at t = %.4g s (%s)   D_max = %.3g m' % (t_compared[0], "
+    "('last time both runs have' + ('; A ends at %.4g s, B at %.4g s' % (t_end_A[0], t_end_B[0]) "
+    "if abs(t_end_A[0] - t_end_B[0]) > 1e-9 else '')) if abs(t_compared[0] - t_last_common[0]) <= 1e-9 "
+    "else ('a time both runs have, %d in common' % n_common[0]), D_max[0])")
+
+
+def deviation_state(run_a=None, run_b=None, time=None, drange=None, view=None, portable=False):
+    """(3) Run A's fluid coloured by |q_A - q_B| (particles matched by id) at times both runs have (default
+    the last common frame), colour range 0 .. 98th percentile of the frame (or ``drange``); the picture says
+    which time is compared and D_max there."""
+    s = pv()
+    a_dir = resolve(None if portable else run_a, ENV_RUN)
+    b_dir = resolve(None if portable else run_b, ENV_OTHER)
+    from .deviation import common_times
+    pairs = common_times(a_dir, b_dir)
+    if not pairs:
+        raise ValueError("runs %s and %s have no frame times in common" % (a_dir, b_dir))
+    info = RunInfo(a_dir)
+    view = view or new_view(name="varsph deviation")
+    ra = open_run(None if portable else a_dir, "A", ENV_RUN)
+    rb = open_run(None if portable else b_dir, "B", ENV_OTHER)
+    try:  # the animation steps through the common times only (the deviation filter's), not A's or B's
+        s.GetTimeKeeper().SuppressedTimeSources = [ra, rb]
+    except AttributeError:
+        pass
+    dev = s.varsphDeviation(registrationName="Deviation", Input=ra, Reference=rb)
+    if portable:   # a saved state opens at its first frame (see make_pvsm.py): show the end state regardless
+        dev.CompareAt = "Last Common Time"
+    walls = s.Threshold(registrationName="Walls", Input=ra, Scalars=["POINTS", "kind"],
                         LowerThreshold=1, UpperThreshold=1)
-    fluid = s.Threshold(registrationName="Fluid", Input=r, Scalars=["POINTS", "kind"],
-                        LowerThreshold=0, UpperThreshold=0)
-    _points(walls, view, dx, color=[0.45, 0.45, 0.45])
-    d = _points(fluid, view, dx)
-    _color(d, view, "pressure", PRESSURE_LUT, prange or pressure_range(run), "pressure [Pa]")
-    lab = _label(view, "")
-    _register(view, lab, "pressure  t = {t:.4g} s")
-    set_time(view, t)
-    _camera(view, dim, _up(run))
-    return view
-
-
-def deviation_state(run_a, run_b, time=None, drange=None, view=None):
-    """(3) run A's fluid particles coloured by |q_A - q_B| (matched by id), D_max in the title."""
-    s = pv()
-    f = filters()
-    dim, dx = _dimension_and_dx(run_a)
-    view = view or new_view()
-    ra = open_run(run_a, "A")
-    rb = open_run(run_b, "B")
-    t = pick_time(ra, time)
-    dev = f["varsphDeviation"](registrationName="Deviation", Input=ra, Reference=rb)
+    _points(walls, view, info.dx, colour=WALL_GREY)
     fluid = s.Threshold(registrationName="FluidDeviation", Input=dev, Scalars=["POINTS", "kind"],
                         LowerThreshold=0, UpperThreshold=0)
-    walls = s.Threshold(registrationName="Boundary", Input=ra, Scalars=["POINTS", "kind"],
-                        LowerThreshold=1, UpperThreshold=1)
-    _points(walls, view, dx, color=[0.45, 0.45, 0.45])
-    d = _points(fluid, view, dx)
-    dmax = _dmax(dev, t)
-    rng = drange or (0.0, dmax if dmax > 0 else 1.0)
-    _color(d, view, "deviation_magnitude", DEVIATION_LUT, rng, "|q_A - q_B| [m]")
-    lab = _label(view, "")
-    _register(view, lab, "deviation A - B (eq. 70)  t = {t:.4g} s  D_max = {dmax:.4g} m", deviation=dev)
-    set_time(view, t)
-    _camera(view, dim, _up(run_a))
-    return view
+    d = _points(fluid, view, info.dx)
+    lut = _colour_bar(d, view, "deviation_magnitude", None, DEVIATION_LUT, "distance A - B [m]", fmt="%-.3g")
+    note = s.PythonAnnotation(registrationName="DeviationNote", Input=dev)
+    note.ArrayAssociation = "Field Data"
+    note.Expression = DEVIATION_NOTE
+    _label_style(s.Show(note, view), "Upper Left Corner", 15)
+    time_annotation(view, dev)
+    calls = [] if drange else [("FluidDeviation", "deviation_magnitude", "deviation_magnitude",
+                                DEVIATION_PERCENTILES, True)]
+    if drange:
+        lut.RescaleTransferFunction(*drange)
+    return _finish(view, info, "A", calls, [a for a, _ in pairs], time, portable)
 
 
-def _dmax(dev, t):
-    from paraview import servermanager as sm
-    dev.UpdatePipeline(t)
-    a = sm.Fetch(dev).GetFieldData().GetArray("D_max")
-    return a.GetValue(0) if a is not None else float("nan")
+STATES = {"free_surface": free_surface_state, "pressure": pressure_state, "deviation": deviation_state}
 
 
-def screenshot(view, path, size=(1200, 700)):
+def screenshot(view, path, size=None):
+    """PNG of a view or a layout (``size``: pixels of the whole image)."""
     s = pv()
     os.makedirs(os.path.dirname(os.path.abspath(path)) or ".", exist_ok=True)
-    s.Render(view)
-    s.SaveScreenshot(path, view, ImageResolution=list(size))
+    if view.GetXMLName() == "RenderView":
+        s.Render(view)
+    if size:
+        s.SaveScreenshot(path, view, ImageResolution=list(size))
+    else:
+        s.SaveScreenshot(path, view)
     return path
 
 

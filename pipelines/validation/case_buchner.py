@@ -3,7 +3,8 @@
 against the left wall of a tank 5.366H long; pressure sensor P1 on the right wall at y = 0.2H.
 Reference: tests/data/validation/buchner_2002_wall_pressure_p1.csv (digitised scatter, sorted by T here).
 
-T = t sqrt(g/H), P = p / (rho0 g H). The run goes to T = 8 (t = 1.978 s); the probe is sampled every step.
+T = t sqrt(g/H), P = p / (rho0 g H). The run goes to T = 8 (t = 1.978 s); the probe rows are 1 ms means (a
+transducer sampled at 1 kHz, docs/results.md; T step 0.004).
 Metrics (docs/validation.md section 10, the goals of issue 13 at H/dx >= 50):
   rms            RMS of P_sim(T_i) - P_i over the digitised points with T_i >= 2 (P_sim linear in T)   goal <= 0.08
   first_max      max P_sim for T in [2, 4] (data 0.686) and first_max_diff = first_max - data      goal |diff| <= 0.15

@@ -15,12 +15,19 @@ struct CommandArgs {
   std::vector<std::string> overrides;
   int threads = 0;
   bool overwrite = false, quiet = false;
+<<<<<<< HEAD
   std::shared_ptr<parallel::Communicator> comm;  // all ranks of the run (one: the serial program)
+=======
+  std::string state, paraview_exe;  // paraview
+  std::vector<std::string> paraview_args;
+  bool dry_run = false;             // paraview
+>>>>>>> main
 };
 
 int command_run(const CommandArgs& a);
 int command_info(const CommandArgs& a);
 int command_sample(const CommandArgs& a);
 int command_compare(const CommandArgs& a);
+int command_paraview(const CommandArgs& a);
 
 }  // namespace varsph

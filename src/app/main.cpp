@@ -1,4 +1,4 @@
-// The `varsph` command: run, info, sample, compare (CONTRACT.md). Exit codes: 0 ok, 1 internal error,
+// The `varsph` command: run, info, sample, compare, paraview (CONTRACT.md). Exit codes: 0 ok, 1 internal error,
 // 2 invalid input or usage, 3 numerical failure, 4 I/O failure, 130/143 interrupted.
 #include <cstdio>
 #include <iostream>
@@ -52,6 +52,24 @@ int main(int argc, char** argv) {
   compare->add_flag("--overwrite", args.overwrite, "Replace an existing non-empty output directory");
   compare->add_flag("--quiet", args.quiet, "Print only errors");
 
+  auto* paraview = app.add_subcommand("paraview", "Open the ParaView GUI on a run: varsph plugin loaded, a state shown");
+  paraview->add_option("run", args.run_a, "Run directory (or its .pvd)")->required();
+  paraview->add_option("run_b", args.run_b, "Second run, for the deviation state");
+  paraview->add_option("--state", args.state,
+                       "free_surface | pressure (default) | deviation (default with RUN_B); NAME.pvsm for the XML "
+                       "state; or a .py / .pvsm state file");
+  paraview->add_option("--paraview", args.paraview_exe, "ParaView executable (default: paraview on PATH)");
+  paraview->add_flag("--dry-run", args.dry_run, "Print the environment and command instead of starting ParaView");
+  paraview->footer("Arguments after -- go to paraview (varsph paraview RUN -- --dr).");
+
+  // `varsph paraview ... -- ARGS`: ARGS go to paraview untouched (split off before CLI11 sees them)
+  if (argc > 1 && std::string(argv[1]) == "paraview")
+    for (int i = 2; i < argc; ++i)
+      if (std::string(argv[i]) == "--") {
+        args.paraview_args.assign(argv + i + 1, argv + argc);
+        argc = i;
+        break;
+      }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {  // every rank parses the same command line; rank 0 reports
@@ -79,6 +97,7 @@ int main(int argc, char** argv) {
     if (*info) return command_info(args);
     if (*sample) return command_sample(args);
     if (*compare) return command_compare(args);
+    if (*paraview) return command_paraview(args);
   } catch (const InputError& e) {
     return fail(kExitInput, "error", e.what());
   } catch (const NumericalError& e) {

@@ -6,6 +6,14 @@
 
 namespace varsph::io {
 
+// Frame times drift as dt is summed (the 0.3 s frame at 0.29999999999998328). The .pvd gets the time
+// rounded to the nearest multiple of the output interval `every` when the frame lies within
+// kFrameTimeDrift of it (the tolerance frames of two runs are matched with, CONTRACT.md), written as the
+// shortest decimal that reads back to the same double; other frames (t_end, a failure, an adaptive dt)
+// keep their exact time. The VTU field data `time` always holds the exact simulated time.
+inline constexpr double kFrameTimeDrift = 1e-9;
+double frame_time_label(double t, double every);
+
 class PvdSeries {
  public:
   explicit PvdSeries(std::filesystem::path path) : path_(std::move(path)) {}

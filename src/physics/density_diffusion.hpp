@@ -13,11 +13,13 @@ namespace varsph::physics {
 struct NoDensityDiffusion {
   static constexpr bool enabled = false;
   static constexpr bool uses_pressure = false;
+  static constexpr bool uses_gradient = false;
 };
 
 struct MolteniDiffusion {
   static constexpr bool enabled = true;
   static constexpr bool uses_pressure = false;
+  static constexpr bool uses_gradient = false;
   Real coef;  // 2 delta h c0
   MolteniDiffusion(Real delta, Real h, Real c0) : coef(Real(2) * delta * h * c0) {}
   // Vj = m_j / rho_j, computed once per particle by the pass
@@ -31,6 +33,7 @@ template <int D>
 struct FourtakasDiffusion {
   static constexpr bool enabled = true;
   static constexpr bool uses_pressure = false;
+  static constexpr bool uses_gradient = false;
   Real coef, rho0, rho0_over_B;
   Vec<D> g;
   FourtakasDiffusion(Real delta, Real h, Real c0, Real rho0_, const Vec<D>& g_)

@@ -8,6 +8,7 @@
 #include "core/real.hpp"
 #include "physics/artificial_stress.hpp"
 #include "physics/artificial_viscosity.hpp"
+#include "physics/delta_sph.hpp"
 #include "physics/density_diffusion.hpp"
 #include "physics/eos.hpp"
 #include "physics/laminar_viscosity.hpp"
@@ -56,7 +57,10 @@ struct DensityRatePass {
         if (s.kind[i] == kFluid && (s.kind[j] == kFluid || walls_in_continuum<M>))
           acc += diff.term_p(s.p[i], s.p[j], s.rho[i], volume[j], F, xij);
       } else if (s.kind[i] == kFluid && s.kind[j] == kFluid) {
-        acc += diff.term(s.rho[i], s.rho[j], volume[j], F, xij);
+        if constexpr (Diffusion::uses_gradient)  // delta-SPH with renormalised gradients (physics/delta_sph.hpp)
+          acc += diff.term_g(i, j, s.rho[i], s.rho[j], volume[j], F, xij);
+        else
+          acc += diff.term(s.rho[i], s.rho[j], volume[j], F, xij);
       }
     }
   }

@@ -16,7 +16,7 @@ enum class BoundaryModel {
   Mdbc,           // modified dynamic boundary condition (English et al. 2022): ghost-node extrapolation
 };
 enum class WallSlip { NoSlip, FreeSlip };
-enum class DensityDiffusion { None, Molteni, Fourtakas };
+enum class DensityDiffusion { None, Molteni, Fourtakas, Antuono };
 enum class TensileFix { None, ArtificialStress };
 
 template <int D>

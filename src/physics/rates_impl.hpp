@@ -159,20 +159,38 @@ class RatesImpl final : public Rates<D> {
     const Visc visc = r.template viscosity<Visc>();
     using Dens = DensityRatePass<D, Kernel, MD, Diff>;
     using Accel = AccelerationPass<D, Kernel, Visc, MA>;
-    const Dens dens{r.W_, s, drho, r.template diffusion<Diff>(), r.template volumes<Diff>(s)};
+    const Real* V = r.template volumes<Diff>(s);  // before the policy: the renormalised gradient reads them
+    const Dens dens{r.W_, s, drho, r.template diffusion<Diff>(g, s), V};
     const Accel accel{r.W_, visc, r.wall_, s, r.g_eff_, a, &r.soft_, r.pressure_terms(s)};
     FusedRatesPass<D, Dens, Accel> pass{dens, accel};
     for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
   }
   template <BoundaryModel M, class Diff>
   static void run_drho(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Real* drho) {
-    DensityRatePass<D, Kernel, M, Diff> pass{r.W_, s, drho, r.template diffusion<Diff>(), r.template volumes<Diff>(s)};
+    const Real* V = r.template volumes<Diff>(s);
+    DensityRatePass<D, Kernel, M, Diff> pass{r.W_, s, drho, r.template diffusion<Diff>(g, s), V};
     for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
   }
   template <BoundaryModel M>
   static void run_sum(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Real* rho) {
     SummationDensityPass<D, Kernel, M> pass{r.W_, s, rho};
     for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
+  }
+  // The diffusion policy for the state s; the renormalised delta-SPH first runs its gradient sweep.
+  template <class Diff>
+  Diff diffusion(const NeighborGrid<D>& g, const ParticleView<D>& s) const {
+    if constexpr (std::is_same_v<Diff, AntuonoDiffusion<D>>) {
+      Diff d(p_.diffusion_delta, p_.h, p_.c0);
+      grad_rho_.resize(s.size());
+      RenormalisedDensityGradientPass<D, Kernel> pass{W_, s, volume_.data(), grad_rho_.data()};
+      for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+      d.grad = grad_rho_.data();
+      return d;
+    } else {
+      (void)g;
+      (void)s;
+      return diffusion<Diff>();
+    }
   }
   template <class Diff>
   Diff diffusion() const {
@@ -220,6 +238,7 @@ class RatesImpl final : public Rates<D> {
       case DensityDiffusion::None: drho_fn_ = &run_drho<M, NoDensityDiffusion>; break;
       case DensityDiffusion::Molteni: drho_fn_ = &run_drho<M, MolteniDiffusion>; break;
       case DensityDiffusion::Fourtakas: drho_fn_ = &run_drho<M, FourtakasDiffusion<D>>; break;
+      case DensityDiffusion::Antuono: drho_fn_ = &run_drho<M, AntuonoDiffusion<D>>; break;
     }
   }
   void pick_density() {
@@ -267,6 +286,7 @@ class RatesImpl final : public Rates<D> {
       case DensityDiffusion::None: fused_for_wall<Visc, NoDensityDiffusion>(); return;
       case DensityDiffusion::Molteni: fused_for_wall<Visc, MolteniDiffusion>(); return;
       case DensityDiffusion::Fourtakas: fused_for_wall<Visc, FourtakasDiffusion<D>>(); return;
+      case DensityDiffusion::Antuono: fused_for_wall<Visc, AntuonoDiffusion<D>>(); return;
     }
   }
   void pick_fused() {
@@ -292,6 +312,7 @@ class RatesImpl final : public Rates<D> {
   AccFn acc_fn_ = nullptr, react_fn_ = nullptr;
   mutable std::vector<Real> p_over_rho2_;  // scratch of the acceleration pass
   mutable std::vector<Real> volume_;       // scratch of the density-diffusion term
+  mutable std::vector<Vec<D>> grad_rho_;   // scratch: renormalised density gradients (Antuono diffusion)
   RhoFn drho_fn_ = nullptr, sum_fn_ = nullptr;
   using FusedFn = void (*)(const RatesImpl&, const NeighborGrid<D>&, const ParticleView<D>&, Real*, Vec<D>*);
   FusedFn fused_fn_ = nullptr;

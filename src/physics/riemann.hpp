@@ -49,6 +49,7 @@ template <int D>
 struct RiemannDiffusion {
   static constexpr bool enabled = true;
   static constexpr bool uses_pressure = true;
+  static constexpr bool uses_gradient = false;
   static constexpr bool with_walls = true;
   Real inv_rho0c0, rho0;
   Vec<D> g;

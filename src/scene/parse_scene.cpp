@@ -200,7 +200,8 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   if (object_key("physics.gravity_ramp", "an object {duration [s]}"))
     s.gravity_ramp = r.positive("physics.gravity_ramp.duration", std::nullopt, "ramp duration T [s]");
   if (object_key("physics.density_diffusion", "an object {type, delta}")) {
-    s.density_diffusion = r.choice("physics.density_diffusion.type", "molteni", {"none", "molteni", "fourtakas"});
+    s.density_diffusion =
+        r.choice("physics.density_diffusion.type", "molteni", {"none", "molteni", "fourtakas", "antuono"});
     s.diffusion_delta = r.number("physics.density_diffusion.delta", 0.1, 0, 1, "delta-SPH coefficient");
     if (s.density != "continuity" && s.density_diffusion != "none")
       r.fail("physics.density_diffusion", "physics.density = \"continuity\" (diffusion acts on the continuity equation)");
@@ -228,9 +229,12 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
     s.shift_velocity = r.choice("physics.shifting.velocity", "local", {"local", "max"});
     s.shift_R = r.number("physics.shifting.tensile_R", 0.2, 0, 10, "R of 1 + R (W/W(dx))^n (Sun 2017)");
     s.shift_n = int(r.integer("physics.shifting.tensile_n", 4, 1, 16));
-    s.shift_free_surface = r.choice("physics.shifting.free_surface", "zero", {"none", "zero"});
+    s.shift_free_surface = r.choice("physics.shifting.free_surface", "zero", {"none", "zero", "tangential"});
     s.shift_fs_threshold = r.number("physics.shifting.free_surface_threshold", d == 2 ? 1.5 : 2.75, 0, d,
                                     "div r below which a particle is at the free surface");
+    if (s.shift_free_surface == "tangential")
+      s.shift_near_threshold = r.number("physics.shifting.near_surface_threshold", 0.5 * (s.shift_fs_threshold + d),
+                                        s.shift_fs_threshold, d, "div r below which only tangential shifts are kept");
     s.shift_max = r.number("physics.shifting.max_shift", 0.1, 1e-6, 0.5, "cap on |dr| per step in units of dx");
   }
 

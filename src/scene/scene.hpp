@@ -71,7 +71,7 @@ struct Scene {
   bool damping = false;
   double damping_mu = 0, damping_until = 0;  // physics.damping.{mu [1/s], until [s]}
   double gravity_ramp = 0;               // physics.gravity_ramp.duration [s] (0 = off)
-  std::string density_diffusion = "none";  // physics.density_diffusion.type: none | molteni | fourtakas
+  std::string density_diffusion = "none";  // physics.density_diffusion.type: none | molteni | fourtakas | antuono
   double diffusion_delta = 0.1;
   std::string tensile = "none";          // physics.tensile_instability.type: none | artificial_stress
   double as_eps = 0.2, as_n = 4;
@@ -81,7 +81,8 @@ struct Scene {
   std::string shift_velocity = "local";    // physics.shifting.velocity: local | max
   double shift_R = 0.2;                    // physics.shifting.tensile_R [-]
   int shift_n = 4;                         // physics.shifting.tensile_n [-]
-  std::string shift_free_surface = "zero";  // physics.shifting.free_surface: none | zero
+  std::string shift_free_surface = "zero";  // physics.shifting.free_surface: none | zero | tangential
+  double shift_near_threshold = 1.75;      // physics.shifting.near_surface_threshold (tangential band)
   double shift_fs_threshold = 1.5;         // physics.shifting.free_surface_threshold [-] (div r)
   double shift_max = 0.1;                  // physics.shifting.max_shift [dx]
 

@@ -238,7 +238,7 @@ class Runner {
       if (in_own_directory()) {
         keep_up_to = sim.time();
         pvd_->load();
-        pvd_->truncate_after(keep_up_to + 1e-12);
+        pvd_->truncate_after(keep_up_to + io::kFrameTimeDrift);  // .pvd times are rounded (pvd_series.hpp)
         on_root([&] {
           pvd_->write();
           drop_later_files(sim.step());
@@ -387,7 +387,7 @@ class Runner {
     io::FrameData fd = frame_from(sim, scene_.output_fields, scene_.output_precision == "float64");
     fd.count = sim.size();  // owned particles (a piece per rank when distributed)
     const std::string rel = parallel::write_frame(*comm_, dir_, index, fd);
-    on_root([&] { pvd_->add(sim.time(), rel); });
+    on_root([&] { pvd_->add(io::frame_time_label(sim.time(), scene_.output_every), rel); });
     last_frame_name_ = dir_.frame_relative(index);
     last_frame_at_current_ = true;
     last_frame_step_ = sim.step();

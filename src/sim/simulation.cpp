@@ -58,6 +58,7 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
   p.gravity_ramp = Real(s.gravity_ramp);
   p.diffusion = s.density_diffusion == "molteni"     ? physics::DensityDiffusion::Molteni
                 : s.density_diffusion == "fourtakas" ? physics::DensityDiffusion::Fourtakas
+                : s.density_diffusion == "antuono"   ? physics::DensityDiffusion::Antuono
                                                      : physics::DensityDiffusion::None;
   p.diffusion_delta = Real(s.diffusion_delta);
   p.tensile = s.tensile == "artificial_stress" ? physics::TensileFix::ArtificialStress : physics::TensileFix::None;
@@ -68,7 +69,9 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
   p.shifting.global_speed = s.shift_velocity == "max";
   p.shifting.R = Real(s.shift_R);
   p.shifting.n = s.shift_n;
-  p.shifting.free_surface_zero = s.shift_free_surface == "zero";
+  p.shifting.free_surface_zero = s.shift_free_surface == "zero" || s.shift_free_surface == "tangential";
+  p.shifting.tangential = s.shift_free_surface == "tangential";
+  p.shifting.near_threshold = Real(s.shift_near_threshold);
   p.shifting.fs_threshold = Real(s.shift_fs_threshold);
   p.shifting.max_shift = Real(s.shift_max);
   return p;

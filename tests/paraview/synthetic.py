@@ -140,10 +140,12 @@ def write_run(run_dir, frames, name="run", diagnostics=True, probes=False):
                         % (k, fr["fields"]["step"], fr["fields"]["time"], mv[0], mv[1], mv[2], Q, ke, sp, 0.1 * k))
     if probes:
         with open(os.path.join(run_dir, "probes.csv"), "w") as f:
-            f.write("time,p0_pressure,p1_pressure\n")
+            # columns as the solver names them (docs/results.md): p_NAME, h_NAME, front_x
+            f.write("time,p_p0,p_p1,h_g1,front_x\n")
             for fr in frames:
                 t = fr["fields"]["time"]
-                f.write("%.17g,%.17g,%.17g\n" % (t, 100 * math.sin(t), 50 * math.cos(t)))
+                fx = fr["points"][fr["kind"] == 0, 0].max()
+                f.write("%.17g,%.17g,%.17g,%.17g,%.17g\n" % (t, 100 * math.sin(t), 50 * math.cos(t), 0.1 * t, fx))
     return pvd
 
 
@@ -183,3 +185,52 @@ def dam_break_run(run_dir, nframes=4, dimension=2, dx=0.02, name="dam", with_wal
         frames.append(make_frame(pts, dx, dimension, time=t, step=100 * k, kind=kind, velocity=velocity,
                                  pressure=pres, normal=normal, kernel=kernel))
     return write_run(run_dir, frames, name=name, probes=probes)
+
+
+def write_pvtu(path, frame, nparts=2):
+    """One frame as ``nparts`` .vtu pieces (consecutive shares of the particles) and the .pvtu that lists them,
+    the layout a parallel (MPI) run writes; returns ``path``."""
+    base = os.path.splitext(path)[0]
+    n = len(frame["points"])
+    cuts = np.linspace(0, n, nparts + 1).astype(int)
+    sources = []
+    for k in range(nparts):
+        sl = slice(cuts[k], cuts[k + 1])
+        part = {key: (v[sl] if isinstance(v, np.ndarray) else v) for key, v in frame.items()}
+        piece = "%s_p%d.vtu" % (base, k)
+        w = vtkXMLUnstructuredGridWriter()
+        w.SetFileName(piece)
+        w.SetInputData(_grid(part))
+        if not w.Write():
+            raise RuntimeError("could not write " + piece)
+        sources.append(os.path.basename(piece))
+    arrays = [("velocity", "Float64", 3), ("density", "Float64", 1), ("pressure", "Float64", 1),
+              ("mass", "Float64", 1), ("normal", "Float64", 3), ("id", "Int64", 1), ("kind", "Int32", 1)]
+    with open(path, "w") as f:
+        f.write('<?xml version="1.0"?>\n<VTKFile type="PUnstructuredGrid" version="0.1" byte_order="LittleEndian" '
+                'header_type="UInt32">\n  <PUnstructuredGrid GhostLevel="0">\n    <PPointData>\n')
+        for name, typ, nc in arrays:
+            f.write('      <PDataArray type="%s" Name="%s" NumberOfComponents="%d"/>\n' % (typ, name, nc))
+        f.write('    </PPointData>\n    <PPoints>\n      <PDataArray type="Float64" NumberOfComponents="3"/>\n'
+                '    </PPoints>\n')
+        for src in sources:
+            f.write('    <Piece Source="%s"/>\n' % src)
+        f.write("  </PUnstructuredGrid>\n</VTKFile>\n")
+    return path
+
+
+def frame_dict_of(ds):
+    """The make_frame dict of a frame dataset read back (to re-write it in another layout)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    pd = ds.GetPointData()
+    fr = {"points": vtk_to_numpy(ds.GetPoints().GetData()).astype(float)}
+    for name in ("velocity", "density", "pressure", "mass", "id", "kind", "normal"):
+        fr[name] = vtk_to_numpy(pd.GetArray(name)).copy()
+    fields = {}
+    fd = ds.GetFieldData()
+    for i in range(fd.GetNumberOfArrays()):
+        arr = fd.GetAbstractArray(i)
+        fields[arr.GetName()] = arr.GetValue(0) if arr.IsA("vtkStringArray") else (
+            int(arr.GetTuple1(0)) if arr.GetName() in ("step", "dimension") else arr.GetTuple1(0))
+    fr["fields"] = fields
+    return fr

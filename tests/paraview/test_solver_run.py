@@ -1,10 +1,13 @@
 """End-to-end on a real solver run: varsph runs a short 2D dam break, then the post-processing reads it.
-Usage: xvfb-run -a pvpython test_solver_run.py VARSPH_EXECUTABLE SCENE.json
+Usage: xvfb-run -a -s -noreset pvpython test_solver_run.py VARSPH_EXECUTABLE SCENE.json
 
 Checks (frame 0 is the initial block of fluid against the left wall and the floor, hydrostatic pressure):
-free surface = exactly the top row and the right column of the fluid; SPH pressure probes at interior
-points read rho0 g (H - y) within 2 % of rho0 g H; the surge front starts at the block's right column and
-does not move back; a run compared with itself gives D = 0; postprocess.py writes its files."""
+the .pvd frame times are the decimal multiples of output.every (0.02, 0.04, ...), ParaView's PVD reader reads
+back exactly those doubles and the frames' field data time is within 1e-9 s of them; free surface = exactly the
+top row and the right column of the fluid; SPH pressure probes at interior points read rho0 g (H - y) within
+2 % of rho0 g H; the surge front starts at the block's right column and does not move back; the scene's
+runtime probes are in probes.csv every 0.0005 s; a run compared with itself gives D = 0; postprocess.py writes
+its files, the dimensionless front starting at Z = 1."""
 import os
 import subprocess
 import sys
@@ -13,6 +16,7 @@ import numpy as np
 
 import tcommon as T
 import varsph as V
+from varsph import runmeta  # noqa: F401 (V.runmeta)
 
 exe, scene = sys.argv[1], sys.argv[2]
 tmp = T.workdir("solver")
@@ -26,6 +30,16 @@ if p.returncode != 0:
 
 frames = V.frames_of_run(run)
 T.check(len(frames) >= 3, "%d frames" % len(frames))
+import re  # noqa: E402
+with open(V.find_pvd(run)) as f:
+    stamps = re.findall(r'timestep="([^"]+)"', f.read())
+T.check(stamps == ["0", "0.02", "0.04", "0.06"], ".pvd frame times written as decimals of output.every: %s" % stamps)
+from paraview import simple  # noqa: E402
+reader = simple.PVDReader(FileName=V.find_pvd(run))
+T.check(list(reader.TimestepValues) == [0.0, 0.02, 0.04, 0.06],
+        "ParaView's PVD reader reads back exactly 0, 0.02, 0.04, 0.06: %s" % list(reader.TimestepValues))
+drift = max(abs(V.read_vtu(p_).fields["time"] - t) for t, p_ in frames)
+T.check(0 < drift <= 1e-9 or drift == 0, "field data time within 1e-9 s of the .pvd time (max %.3g s)" % drift)
 f0 = V.read_vtu(frames[0][1], frames[0][0])
 dim, dx = f0.dimension, f0.dx
 fm = f0.fluid_mask()
@@ -54,6 +68,13 @@ cols, rows = V.surge_series(run)
 front = np.array([r[1] for r in rows])
 T.close(front[0], right, 1e-12, "surge front at t=0 = right column of the fluid")
 T.check(np.all(np.diff(front) >= -0.1 * dx), "surge front does not move back: %s" % np.round(front, 4))
+head, pc = V.runmeta.probes(run)
+T.check(head == ["time", "p_wall", "h_x2L", "front_x"], "probes.csv of the default scene: %s" % head)
+if "time" in pc:
+    T.check(len(pc["time"]) == 121 and np.allclose(np.diff(pc["time"]), 0.0005, atol=1e-9),
+            "a probe row every 0.0005 s: %d rows" % len(pc["time"]))
+    T.close(pc["front_x"][0], right, 1e-12, "front probe at t = 0 = the block's right column")
+    T.check(pc["h_x2L"][0] == 0 and pc["p_wall"][0] == 0, "dry at x = 2L and at the right wall at t = 0")
 dev = V.deviation_series(run, run)
 T.check(len(dev) == len(frames) and all(r[1] == 0 for r in dev), "run against itself: D = 0 at every frame")
 
@@ -61,6 +82,13 @@ p = subprocess.run([T.pvpython(), os.path.join(T.PARAVIEW_DIR, "postprocess.py")
                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
 print(p.stdout[-2000:])
 T.check(p.returncode == 0, "postprocess.py exit status 0 (%d)" % p.returncode)
-for name in ("surge_front.csv", "deviation.csv", "momentum.csv", "free_surface_t0.png", "pressure_t0.png"):
+for name in ("surge_front.csv", "deviation.csv", "momentum.csv", "free_surface_t0.png", "pressure_t0.png",
+             "probes_pressure.png", "probes_water_height.png", "probes_front.png", "front_dimensionless.png",
+             "pressure_smoothed_t0.06.png"):
     T.check(os.path.isfile(os.path.join(run, "post", name)), "post/%s" % name)
+fd = os.path.join(run, "post", "front_dimensionless.csv")
+if os.path.isfile(fd):
+    z = np.loadtxt(fd, delimiter=",", skiprows=1)
+    T.check(abs(z[0, 2] - 1.0) < 1e-12 and np.all(np.diff(z[:, 2]) >= -1e-9), "dimensionless front starts at "
+            "Z = 1 (%.15g) and does not move back" % z[0, 2])
 T.finish(tmp)

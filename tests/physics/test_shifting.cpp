@@ -168,6 +168,45 @@ TEST(Shifting, FreeSurfaceParticlesAreNotShiftedInZeroMode) {
   }
 }
 
+TEST(Shifting, TangentialModeKeepsOnlyTheSurfaceParallelShiftNearTheSurface) {
+  // Sun et al. 2017 eq. 25: in the band below the free surface only (I - n n) dr is kept, so particles are
+  // not pushed through the surface (the outward drift of "none"), yet they still spread along it. Second
+  // row of a free noisy block (away from corners): normal (outward) and tangential parts, zero vs tangential.
+  const int n = 16;
+  double normal_of[2] = {0, 0}, tangential_of[2] = {0, 0};
+  int k = 0;
+  for (const std::string mode : {"zero", "tangential"}) {
+    json j = periodic_lattice(n, 1.0);
+    j["domain"] = {{"min", {-1.0, -1.0}}, {"max", {2.0, 2.0}}};
+    j["physics"]["shifting"] = {{"free_surface", mode}};
+    if (mode == "tangential") j["physics"]["shifting"]["near_surface_threshold"] = 1.99;
+    Simulation<2> sim(parse(j));
+    perturb(sim, 0.1 * kDx, 5);
+    const auto dr = shifts(sim);
+    const auto& f = sim.fields();
+    int count = 0;
+    for (std::size_t i = 0; i < sim.size(); ++i) {
+      const double y = double(f.x[i][1]), x = double(f.x[i][0]);
+      // second row from the top edge y = n dx, 3 dx from the side edges
+      if (n * kDx - y < 1.0 * kDx || n * kDx - y > 2.0 * kDx || x < 3 * kDx || x > (n - 3) * kDx) continue;
+      normal_of[k] += double(dr[i][1]);  // signed: the outward drift toward the surface
+      tangential_of[k] += std::abs(double(dr[i][0]));
+      ++count;
+    }
+    normal_of[k] = std::abs(normal_of[k]) / (count * kDx);
+    tangential_of[k] /= count * kDx;
+    std::printf("free_surface %s, second row: |mean dr_normal|/dx %.3g, |dr_tangential|/dx %.3g (%d particles)\n",
+                mode.c_str(), normal_of[k], tangential_of[k], count);
+    ++k;
+  }
+  EXPECT_LT(normal_of[1], 0.3 * normal_of[0]) << "no net drift through the surface";
+  EXPECT_GT(tangential_of[1], 0.3 * tangential_of[0]) << "the tangential part stays";
+  // the band bound is checked: above the threshold, below the dimension
+  json bad = periodic_lattice(n, 1.0);
+  bad["physics"]["shifting"] = {{"free_surface", "tangential"}, {"near_surface_threshold", 1.2}};
+  EXPECT_NE(error_of(bad).find("near_surface_threshold"), std::string::npos) << error_of(bad);
+}
+
 TEST(Shifting, EveryExplicitIntegratorAppliesIt) {
   // 40 steps of a noisy translating lattice: the number-density spread ends lower with shifting than without
   for (const std::string integ : {"verlet", "symplectic_euler", "predictor_corrector", "rk4", "verlet_dsph"}) {
@@ -222,7 +261,7 @@ TEST(Shifting, BadKeysAreRejectedWithFileAndKey) {
   expect_error(j, "physics.shifting.velocity");
   j["physics"]["shifting"] = {{"coefficient", -1.0}};
   expect_error(j, "physics.shifting.coefficient");
-  j["physics"]["shifting"] = {{"free_surface", "tangential"}};
+  j["physics"]["shifting"] = {{"free_surface", "normal"}};
   expect_error(j, "physics.shifting.free_surface");
   j["physics"]["shifting"] = {{"max_shift", 2.0}};
   expect_error(j, "physics.shifting.max_shift");

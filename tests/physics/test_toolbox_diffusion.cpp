@@ -1,5 +1,5 @@
 // Density diffusion (delta-SPH): pressure noise std(p - rho0 g depth) of the fluid in a settled tank,
-// without diffusion, with Molteni & Colagrossi (2009) and with Fourtakas et al. (2019).
+// without diffusion, with Molteni & Colagrossi (2009), Fourtakas et al. (2019) and Antuono et al. (2010).
 #include "toolbox_support.hpp"
 
 using namespace varsph;
@@ -39,7 +39,10 @@ TEST(DensityDiffusion, ReducesPressureNoiseInASettledTank) {
   const double none = pressure_noise("none");
   const double molteni = pressure_noise("molteni");
   const double fourtakas = pressure_noise("fourtakas");
-  std::printf("noise ratio: molteni / none = %.3f, fourtakas / none = %.3f\n", molteni / none, fourtakas / none);
+  const double antuono = pressure_noise("antuono");
+  std::printf("noise ratio: molteni / none = %.3f, fourtakas / none = %.3f, antuono / none = %.3f\n", molteni / none,
+              fourtakas / none, antuono / none);
   EXPECT_LT(fourtakas, 0.5 * none);
+  EXPECT_LT(antuono, 0.5 * none);  // renormalised: no diffusion of the stratification, as Fourtakas
   EXPECT_LT(molteni, none);
 }

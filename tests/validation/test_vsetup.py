@@ -5,7 +5,9 @@ run; CTest `validation_vsetup`, fast tier, well under a second):
   * a flow key the set-up names but the case does not is dropped (a set-up cannot give a case a body force);
   * box, tank and mesh walls get ceil(support / dx) layers for a pressure wall, never fewer than they had, and
     keep theirs for the repulsive wall;
-  * bad set-up files stop with exit 2 and a message naming the file and the key.
+  * bad set-up files stop with exit 2 and a message naming the file and the key;
+  * setup_matrix.py --compare (metric rows, then wall s and load per case) and --update (re-run cases replace
+    their rows, the others keep theirs; without an earlier matrix.json exit 2).
 """
 import json
 import os
@@ -79,6 +81,30 @@ with tempfile.TemporaryDirectory() as d:
     p = subprocess.run([sys.executable, os.path.join(VDIR, "setup_matrix.py"), "--setup", good, "--cases", "nope"],
                        capture_output=True, text=True, timeout=60)
     check(p.returncode == 2 and "unknown case" in p.stderr, f"unknown case: exit {p.returncode}")
+    # --update without an earlier result: exit 2 naming the file, nothing run
+    p = subprocess.run([sys.executable, os.path.join(VDIR, "setup_matrix.py"), "--setup", good, "--cases", "poiseuille",
+                        "--update", "-o", os.path.join(d, "none")], capture_output=True, text=True, timeout=60)
+    check(p.returncode == 2 and "matrix.json" in p.stderr and "--update" in p.stderr,
+          f"--update without matrix.json: exit {p.returncode}, stderr {p.stderr.strip()!r}")
+    check(not os.path.exists(os.path.join(d, "none")), "nothing written for --update without a result")
+    # --compare: one column per set-up, then each case's solver wall time and load
+    for name, val, wall in (("s1", 0.5, 12.0), ("s2", 0.7, None)):
+        os.makedirs(os.path.join(d, name))
+        rows = [{"case": "hydrostatic", "metric": "m", "value": val, "value_text": f"{val}", "goal": "<= 0.6",
+                 "pass": val <= 0.6, "wall": wall, "load": 3.0}]
+        with open(os.path.join(d, name, "matrix.json"), "w") as f:
+            json.dump({"setup": name, "description": "d", "rows": rows}, f)
+    p = subprocess.run([sys.executable, os.path.join(VDIR, "setup_matrix.py"), "--compare", os.path.join(d, "s1"),
+                        os.path.join(d, "s2")], capture_output=True, text=True, timeout=60)
+    check(p.returncode == 0 and "| hydrostatic | m | <= 0.6 | 0.5 ok | 0.7 **x** |" in p.stdout
+          and "| hydrostatic | solver wall s (load) |  | 12 (3.0) |  |" in p.stdout, f"--compare table: {p.stdout!r}")
+
+# --update keeps the other cases' rows in their places and replaces the re-run case's
+import setup_matrix  # noqa: E402
+kept = {"order": ["a", "b", "c"], "old": [{"case": "a", "v": 1}, {"case": "b", "v": 2}, {"case": "b", "v": 3},
+                                          {"case": "c", "v": 4}], "fresh": {"b": [{"case": "b", "v": 9}]}, "cases": {}}
+check(setup_matrix.merged_rows(kept) == [{"case": "a", "v": 1}, {"case": "b", "v": 9}, {"case": "c", "v": 4}],
+      f"--update merge: {setup_matrix.merged_rows(kept)}")
 
 if failures:
     print("FAIL:\n  " + "\n  ".join(failures))

@@ -1,22 +1,30 @@
-"""ParaView plugin: varsph SPH post-processing filters.
+"""ParaView plugin: varsph SPH post-processing filters and the run reader.
 
-Load in the GUI with Tools > Manage Plugins > Load New... > paraview/varsph_filters.py (tick "Auto Load"
-to keep it), or in pvpython with ``LoadPlugin('/path/to/paraview/varsph_filters.py', ns=globals())``.
-The filters then appear under Filters > Alphabetical (and the "varsph" category):
+This directory (paraview/plugin/) holds only the plugin, so that it can be a plugin search path:
+  GUI:      Tools > Manage Plugins > Load New... > paraview/plugin/varsph_filters.py (tick "Auto Load")
+  any:      PV_PLUGIN_PATH=/path/to/varsph/paraview/plugin paraview | pvpython | pvbatch
+  GUI:      paraview --plugin-search-paths=/path/to/varsph/paraview/plugin --plugins=varsph_filters
+  Python:   LoadPlugin('/path/to/varsph/paraview/plugin/varsph_filters.py', ns=globals())
+ParaView 5.11 on Python 3.11 (Debian 12) needs the start-up shim installed once by
+paraview/install_compat.py (scripts/install-deps.sh does it); ParaView >= 5.12 needs nothing.
+The proxies appear under Sources / Filters > varsph (and Alphabetical):
 
-  varsph Free Surface          port 0: the input + free_surface (0/1), fs_lambda, fs_normal
-                               port 1: the reconstructed surface (colour field contour), optional
+  varsph Run                   a run directory as a time series; empty Run Directory = $VARSPH_RUN_DIR
+                               (or the variable named in Run Variable), else the working directory
+  varsph Free Surface          port Particles: the input + free_surface (0/1), fs_lambda, fs_normal
+                               port Surface: the reconstructed surface (colour field contour), optional
+  varsph Smoothed Pressure     the input + pressure_smoothed (Shepard SPH average over fluid neighbours)
   varsph Pressure Probe        table over time of a point array (pressure) SPH-interpolated at points
-  varsph Deviation             per-particle deviation (vector, magnitude) between two runs at the current time
-  varsph Deviation Over Time   table time,D_max,D_mean,D_rms over all matched times (as varsph compare)
+  varsph Deviation             run A's particles with the deviation from run B at the nearest common time
+  varsph Deviation Over Time   table time,D_max,D_mean,D_rms over the common times (as varsph compare)
   varsph Surge Front           table time,front_x,front_rel,height_x<g>... over time
 
-The logic lives in the ``varsph`` package next to this file (paraview/varsph/); see docs/paraview.md.
+The logic lives in the ``varsph`` package (paraview/varsph/); see paraview/README.md.
 """
 import os
 import sys
 
-_HERE = os.path.dirname(os.path.abspath(__file__))
+_HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # paraview/: the varsph package
 if _HERE not in sys.path:
     sys.path.insert(0, _HERE)
 
@@ -28,7 +36,8 @@ import numpy as np  # noqa: E402
 from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase  # noqa: E402
 from vtkmodules.vtkCommonCore import vtkDoubleArray  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkDataSet, vtkPolyData, vtkTable  # noqa: E402
+from vtkmodules.vtkCommonDataModel import (vtkDataObject, vtkDataSet, vtkPolyData, vtkTable,  # noqa: E402
+                                            vtkUnstructuredGrid)
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline as _SDDP  # noqa: E402
 
 from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # noqa: E402
@@ -58,11 +67,43 @@ def _fill_table(table, columns, rows):
         table.AddColumn(a)
 
 
+def _as_dataset(obj):
+    """A single dataset: the object itself, or the leaves of a composite (a .pvd with several parts per
+    time, pieces read by another reader) appended into one unstructured grid."""
+    if obj is None or isinstance(obj, vtkDataSet):
+        return obj
+    if obj.IsA("vtkCompositeDataSet"):
+        from vtkmodules.vtkFiltersCore import vtkAppendFilter
+        app = vtkAppendFilter()
+        it = obj.NewIterator()
+        it.InitTraversal()
+        while not it.IsDoneWithTraversal():
+            leaf = it.GetCurrentDataObject()
+            if isinstance(leaf, vtkDataSet) and leaf.GetNumberOfPoints():
+                app.AddInputData(leaf)
+            it.GoToNextItem()
+        if app.GetNumberOfInputConnections(0) == 0:
+            return vtkUnstructuredGrid()
+        app.Update()
+        out = app.GetOutput()
+        it.InitTraversal()
+        while not it.IsDoneWithTraversal():
+            leaf = it.GetCurrentDataObject()
+            if isinstance(leaf, vtkDataSet):
+                out.GetFieldData().ShallowCopy(leaf.GetFieldData())
+                break
+            it.GoToNextItem()
+        return out
+    return None
+
+
 def _input_frame(inInfo, port=0, time=None):
-    ds = vtkDataSet.GetData(inInfo[port])
+    obj = vtkDataObject.GetData(inInfo[port])
+    ds = _as_dataset(obj)
     if ds is None:
-        raise RuntimeError("input %d is not a single dataset (use the run's .pvd reader output)" % port)
-    t = ds.GetInformation().Get(vtkDataObject.DATA_TIME_STEP())
+        raise RuntimeError("input %d is not a dataset (use the output of varsph Run or of the run's .pvd reader)"
+                           % port)
+    t = obj.GetInformation().Get(vtkDataObject.DATA_TIME_STEP())
     return varsph.frame_from_vtk(ds, time=t if t is not None else time), ds
 
 
@@ -76,7 +117,7 @@ class _OverTime(VTKPythonAlgorithmBase):
         self._rows = []
 
     def FillInputPortInformation(self, port, info):
-        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet")
+        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject")
         return 1
 
     def RequestInformation(self, request, inInfo, outInfo):
@@ -113,17 +154,107 @@ class _OverTime(VTKPythonAlgorithmBase):
 
 
 # --------------------------------------------------------------------------------------------------
+@smproxy.source(name="varsphRun", label="varsph Run")
+@smhint.xml(_CATEGORY)
+class RunReader(VTKPythonAlgorithmBase):
+    """A varsph run directory as a time series (the frames its .pvd lists: .vtu, or .pvtu pieces).
+
+    *Run Directory* may be the directory or its .pvd. Left empty, the run comes from the environment
+    variable named by *Run Variable* (VARSPH_RUN_DIR; the deviation states use VARSPH_OTHER_RUN_DIR for
+    run B), else from the working directory: that is what lets one saved state (.pvsm) open any run."""
+
+    def __init__(self):
+        VTKPythonAlgorithmBase.__init__(self, nInputPorts=0, nOutputPorts=1, outputType="vtkUnstructuredGrid")
+        self._dir = ""
+        self._variable = "VARSPH_RUN_DIR"
+        self._pvd = ""
+        self._entries = []
+        self._cache = (None, None)
+
+    @smproperty.stringvector(name="RunDirectory", label="Run Directory", default_values="")
+    def SetRunDirectory(self, d):
+        if d != self._dir:
+            self._dir = d or ""
+            self.Modified()
+
+    @smproperty.stringvector(name="RunVariable", label="Run Variable", default_values="VARSPH_RUN_DIR")
+    def SetRunVariable(self, v):
+        if v != self._variable:
+            self._variable = v or ""
+            self.Modified()
+
+    @smproperty.stringvector(name="ResolvedFile", information_only="1")
+    def GetResolvedFile(self):
+        return self._pvd
+
+    @smproperty.doublevector(name="TimestepValues", information_only="1", si_class="vtkSITimeStepsProperty")
+    def GetTimestepValues(self):
+        return [t for t, _ in self._entries]
+
+    def RequestInformation(self, request, inInfo, outInfo):
+        try:
+            self._pvd = varsph.io.resolve_run(self._dir, self._variable)
+            self._entries = varsph.io.entries_of(self._pvd)
+        except (OSError, ValueError) as e:
+            self._pvd, self._entries = "", []
+            print("varsph Run: %s" % e, file=sys.stderr)
+            return 0
+        _set_times(outInfo.GetInformationObject(0), [t for t, _ in self._entries])
+        return 1
+
+    def RequestData(self, request, inInfo, outInfo):
+        if not self._entries:
+            return 0
+        oi = outInfo.GetInformationObject(0)
+        t = oi.Get(_SDDP.UPDATE_TIME_STEP()) if oi.Has(_SDDP.UPDATE_TIME_STEP()) else self._entries[0][0]
+        t_frame, path = varsph.io.entry_at(self._entries, t)
+        if self._cache[0] != path:
+            self._cache = (path, varsph.io.read_dataset(path))
+        out = vtkDataSet.GetData(outInfo)
+        out.ShallowCopy(self._cache[1])
+        out.GetInformation().Set(vtkDataObject.DATA_TIME_STEP(), t_frame)
+        return 1
+
+
+# --------------------------------------------------------------------------------------------------
+@smproxy.filter(name="varsphSmoothedPressure", label="varsph Smoothed Pressure")
+@smhint.xml(_CATEGORY)
+@smproperty.input(name="Input", port_index=0)
+@smdomain.datatype(dataTypes=["vtkDataSet", "vtkCompositeDataSet"])
+class SmoothedPressure(VTKPythonAlgorithmBase):
+    """The input plus ``<array>_smoothed``: each fluid particle's value replaced by the Shepard-normalised SPH
+    average over its fluid neighbours, sum_j V_j f_j W_ij / sum_j V_j W_ij (the probe interpolation of
+    varsph.probe at the particle positions); boundary particles keep their value."""
+
+    def __init__(self):
+        VTKPythonAlgorithmBase.__init__(self, nInputPorts=1, nOutputPorts=1, inputType="vtkDataObject",
+                                        outputType="vtkUnstructuredGrid")
+        self._array = "pressure"
+
+    @smproperty.stringvector(name="ArrayName", label="Array Name", default_values="pressure")
+    def SetArrayName(self, name):
+        self._array = str(name)
+        self.Modified()
+
+    def RequestData(self, request, inInfo, outInfo):
+        frame, ds = _input_frame(inInfo)
+        out = vtkDataSet.GetData(outInfo)
+        out.ShallowCopy(ds)
+        _add_point_array(out, self._array + "_smoothed", varsph.smooth_field(frame, self._array))
+        return 1
+
+
+# --------------------------------------------------------------------------------------------------
 @smproxy.filter(name="varsphFreeSurface", label="varsph Free Surface")
 @smhint.xml(_CATEGORY)
-@smhint.xml('<OutputPort name="Particles" index="0" /><OutputPort name="Surface" index="1" />')
 @smproperty.input(name="Input", port_index=0)
-@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+@smdomain.datatype(dataTypes=["vtkDataSet", "vtkCompositeDataSet"])
 class FreeSurface(VTKPythonAlgorithmBase):
     """Free-surface particles by Marrone et al. (2010), J. Comput. Phys. 229:3652, and optionally the
     surface reconstructed as the 0.5 contour of the SPH colour field sampled on an image grid."""
 
     def __init__(self):
-        VTKPythonAlgorithmBase.__init__(self, nInputPorts=1, nOutputPorts=2)
+        VTKPythonAlgorithmBase.__init__(self, nInputPorts=1, nOutputPorts=2, inputType="vtkDataObject")
         self._include_boundary = True
         self._lambda_surface = 0.2
         self._lambda_interior = 0.75
@@ -135,12 +266,18 @@ class FreeSurface(VTKPythonAlgorithmBase):
         info.Set(vtkDataObject.DATA_TYPE_NAME(), "vtkUnstructuredGrid" if port == 0 else "vtkPolyData")
         return 1
 
+    @smproperty.xml('<OutputPort name="Particles" index="0" /><OutputPort name="Surface" index="1" />')
+    def _output_port_names(self):
+        """Not a property: puts the port names into the proxy definition."""
+
     def RequestDataObject(self, request, inInfo, outInfo):
         inp = vtkDataObject.GetData(inInfo[0])
         if inp is not None:
+            # a composite input (several parts per time) comes out as one unstructured grid
+            cls = inp.GetClassName() if isinstance(inp, vtkDataSet) else "vtkUnstructuredGrid"
             out0 = vtkDataObject.GetData(outInfo, 0)
-            if out0 is None or out0.GetClassName() != inp.GetClassName():
-                out0 = inp.NewInstance()
+            if out0 is None or out0.GetClassName() != cls:
+                out0 = inp.NewInstance() if isinstance(inp, vtkDataSet) else vtkUnstructuredGrid()
                 outInfo.GetInformationObject(0).Set(vtkDataObject.DATA_OBJECT(), out0)
         out1 = vtkDataObject.GetData(outInfo, 1)
         if out1 is None:
@@ -201,7 +338,7 @@ class FreeSurface(VTKPythonAlgorithmBase):
 @smproxy.filter(name="varsphPressureProbe", label="varsph Pressure Probe")
 @smhint.xml(_CATEGORY)
 @smproperty.input(name="Input", port_index=0)
-@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+@smdomain.datatype(dataTypes=["vtkDataSet", "vtkCompositeDataSet"])
 class PressureProbe(_OverTime):
     """Shepard-normalised SPH interpolation of a point array (fluid particles) at user points, over time."""
 
@@ -237,58 +374,116 @@ class PressureProbe(_OverTime):
 
 
 # --------------------------------------------------------------------------------------------------
+def _field(fd, name, value):
+    a = vtkDoubleArray()
+    a.SetName(name)
+    a.InsertNextValue(float(value))
+    fd.AddArray(a)
+
+
+def _times_of(info):
+    return list(info.Get(_SDDP.TIME_STEPS())) if info.Has(_SDDP.TIME_STEPS()) else []
+
+
+def _set_times(info, times):
+    info.Remove(_SDDP.TIME_STEPS())
+    info.Remove(_SDDP.TIME_RANGE())
+    if times:
+        info.Set(_SDDP.TIME_STEPS(), times, len(times))
+        info.Set(_SDDP.TIME_RANGE(), [times[0], times[-1]], 2)
+
+
 @smproxy.filter(name="varsphDeviation", label="varsph Deviation")
 @smhint.xml(_CATEGORY)
 @smproperty.input(name="Reference", port_index=1)
-@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+@smdomain.datatype(dataTypes=["vtkDataSet", "vtkCompositeDataSet"])
 @smproperty.input(name="Input", port_index=0)
-@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+@smdomain.datatype(dataTypes=["vtkDataSet", "vtkCompositeDataSet"])
 class Deviation(VTKPythonAlgorithmBase):
     """Run A's particles with ``deviation`` = q_A - q_B (matched by id) and ``deviation_magnitude``;
-    field data D_max, D_mean, D_rms over the fluid particles (paper eq. 70) at the current time."""
+    field data D_max, D_mean, D_rms over the fluid particles (paper eq. 70).
+
+    Only times both runs have are compared: the output's time steps are the common times (|t_A - t_B|
+    <= 1e-9 s), a requested time is taken to the latest common time at or before it (the first one before
+    the first), or always to the last common time (*Compare At*), and the field data says which:
+    t_compared, t_last_common, t_end_A, t_end_B, n_common; the output's data time is t_compared."""
 
     def __init__(self):
         VTKPythonAlgorithmBase.__init__(self, nInputPorts=2, nOutputPorts=1, outputType="vtkUnstructuredGrid")
+        self._pairs = []
+        self._ends = (float("nan"), float("nan"))
+        self._last_common = False
+
+    @smproperty.intvector(name="CompareAt", label="Compare At", default_values=0)
+    @smdomain.xml('<EnumerationDomain name="enum"><Entry value="0" text="Animation Time"/>'
+                  '<Entry value="1" text="Last Common Time"/></EnumerationDomain>')
+    def SetCompareAt(self, v):
+        """Animation Time: the latest common time at or before the animation time; Last Common Time: always
+        the last time both runs have, whatever the animation time (a fixed picture of the end state)."""
+        if bool(v) != self._last_common:
+            self._last_common = bool(v)
+            self.Modified()
 
     def FillInputPortInformation(self, port, info):
-        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet")
+        info.Set(self.INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject")
         return 1
 
+    @smproperty.doublevector(name="TimestepValues", information_only="1", si_class="vtkSITimeStepsProperty")
+    def GetTimestepValues(self):
+        return [ta for ta, _ in self._pairs]
+
+    def RequestInformation(self, request, inInfo, outInfo):
+        ta = _times_of(inInfo[0].GetInformationObject(0))
+        tb = _times_of(inInfo[1].GetInformationObject(0))
+        self._pairs = [(ta[i], tb[j]) for i, j in _dev.match_times(ta, tb)]
+        self._ends = (ta[-1] if ta else float("nan"), tb[-1] if tb else float("nan"))
+        _set_times(outInfo.GetInformationObject(0), [a for a, _ in self._pairs])
+        return 1
+
+    def _pair_for(self, t):
+        return self._pairs[-1] if self._last_common else _dev.common_pair(self._pairs, t)
+
     def RequestUpdateExtent(self, request, inInfo, outInfo):
-        # B is asked for A's time so that both frames match
         oi = outInfo.GetInformationObject(0)
-        if oi.Has(_SDDP.UPDATE_TIME_STEP()):
-            t = oi.Get(_SDDP.UPDATE_TIME_STEP())
-            for port in (0, 1):
-                inInfo[port].GetInformationObject(0).Set(_SDDP.UPDATE_TIME_STEP(), t)
+        if self._pairs:
+            t = oi.Get(_SDDP.UPDATE_TIME_STEP()) if oi.Has(_SDDP.UPDATE_TIME_STEP()) else self._pairs[-1][0]
+            ta, tb = self._pair_for(t)
+            inInfo[0].GetInformationObject(0).Set(_SDDP.UPDATE_TIME_STEP(), ta)
+            inInfo[1].GetInformationObject(0).Set(_SDDP.UPDATE_TIME_STEP(), tb)
         return 1
 
     def RequestData(self, request, inInfo, outInfo):
+        out = vtkDataSet.GetData(outInfo)
+        if not self._pairs:
+            print("varsph Deviation: the two runs have no frame times in common (A ends at %.6g s, B at %.6g s)"
+                  % self._ends, file=sys.stderr)
+            return 0
         A, ds_a = _input_frame(inInfo, 0)
         B, _ = _input_frame(inInfo, 1)
-        out = vtkDataSet.GetData(outInfo)
         out.ShallowCopy(ds_a)
         r = varsph.deviation_frame(A, B)
-        if abs(A.time - B.time) > _dev.TIME_TOLERANCE:
-            print("varsph Deviation: frame times differ (A %.12g, B %.12g); run B has no frame at A's time"
-                  % (A.time, B.time))
         _add_point_array(out, "deviation", r["vector"])
         _add_point_array(out, "deviation_magnitude", r["magnitude"])
         fd = out.GetFieldData()
         for k in ("D_max", "D_mean", "D_rms"):
-            a = vtkDoubleArray()
-            a.SetName(k)
-            a.InsertNextValue(r[k])
-            fd.AddArray(a)
+            _field(fd, k, r[k])
+        oi = outInfo.GetInformationObject(0)
+        t = oi.Get(_SDDP.UPDATE_TIME_STEP()) if oi.Has(_SDDP.UPDATE_TIME_STEP()) else self._pairs[-1][0]
+        _field(fd, "t_compared", self._pair_for(t)[0])
+        _field(fd, "t_last_common", self._pairs[-1][0])
+        _field(fd, "t_end_A", self._ends[0])
+        _field(fd, "t_end_B", self._ends[1])
+        _field(fd, "n_common", len(self._pairs))
+        out.GetInformation().Set(vtkDataObject.DATA_TIME_STEP(), self._pair_for(t)[0])
         return 1
 
 
 @smproxy.filter(name="varsphDeviationOverTime", label="varsph Deviation Over Time")
 @smhint.xml(_CATEGORY)
 @smproperty.input(name="Reference", port_index=1)
-@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+@smdomain.datatype(dataTypes=["vtkDataSet", "vtkCompositeDataSet"])
 @smproperty.input(name="Input", port_index=0)
-@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+@smdomain.datatype(dataTypes=["vtkDataSet", "vtkCompositeDataSet"])
 class DeviationOverTime(_OverTime):
     """Table time,D_max,D_mean,D_rms over the times of run A that run B also has (within 1e-9 s)."""
 
@@ -319,7 +514,7 @@ class DeviationOverTime(_OverTime):
 @smproxy.filter(name="varsphSurgeFront", label="varsph Surge Front")
 @smhint.xml(_CATEGORY)
 @smproperty.input(name="Input", port_index=0)
-@smdomain.datatype(dataTypes=["vtkDataSet"], composite_data_supported=False)
+@smdomain.datatype(dataTypes=["vtkDataSet", "vtkCompositeDataSet"])
 class SurgeFront(_OverTime):
     """Largest fluid coordinate along Axis (the dam-break front), relative to a reference, and water
     heights at gauge positions, over time."""

@@ -1,0 +1,44 @@
+"""A bundled state opened the way a ParaView user opens it: ``paraview --state=paraview/states/NAME.{py,pvsm}``
+in the real GUI (under Xvfb), runs given by $VARSPH_RUN_DIR / $VARSPH_OTHER_RUN_DIR, the plugin found through
+PV_PLUGIN_PATH, the Python 3.11 shim installed by install_compat.py --user. Checks: ParaView exits 0 and prints
+no error or warning line; the GUI holds one layout with one view; the fluid is in view, fitted, drawn as Point
+Gaussian discs of diameter dx, the colour bar beside it, the time annotated; the screenshot taken in the GUI
+shows the fluid (its region differs from the background). Deviation: the last common time, said in the view.
+Usage: pvpython test_gui_states.py {free_surface|pressure|deviation} {py|pvsm}"""
+import os
+import sys
+
+import gui
+import tcommon as T
+import synthetic as S
+import viewcheck as C
+
+name, flavour = sys.argv[1], sys.argv[2]
+tmp = T.workdir("gui_%s_%s" % (name, flavour))
+a, b = os.path.join(tmp, "run a"), os.path.join(tmp, "run_b")
+S.dam_break_run(a, nframes=4, dx=0.02)
+S.dam_break_run(b, nframes=3, dx=0.02, shift=(0.004, 0.0, 0.0))     # B ends at 0.2 s, A at 0.3 s
+env = {"VARSPH_RUN_DIR": a, "VARSPH_OTHER_RUN_DIR": b, "PV_PLUGIN_PATH": os.path.join(T.PARAVIEW_DIR, "plugin"),
+       "PYTHONUSERBASE": gui.shim_userbase(tmp)}
+state = os.path.join(T.PARAVIEW_DIR, "states", "%s.%s" % (name, flavour))
+rc, out, rep, shot, _ = gui.run(tmp, ["--state=" + state], env)
+print(out[-4000:])
+T.check(rc == 0, "paraview --state=%s exits 0 (%d)" % (os.path.basename(state), rc))
+T.check(not gui.error_lines(out), "no error or warning lines in ParaView's output %s" % gui.error_lines(out)[:5])
+T.check(rep is not None and rep.get("ok"), "the check ran in the GUI's Python shell: %s" % (rep or {}).get("error"))
+if rep and rep.get("ok"):
+    T.check(rep.get("plugin") is True, "the plugin is loaded (PV_PLUGIN_PATH)")
+    problems = C.layout_problems(rep)
+    T.check(not problems, "%s.%s in the GUI: one view, fluid fitted, Point Gaussian, bar beside, time (%s) %s"
+            % (name, flavour, rep.get("time_text"), problems))
+    T.close(rep.get("gaussian_radius", 0), 0.01, 1e-12, "particle discs of diameter dx")
+    if name == "deviation":
+        T.check(rep.get("time_text") == "t = 0.200 s" and "last time both runs have" in (rep.get("note_text") or ""),
+                "deviation at the last common time, said in the view: %s" % rep.get("note_text"))
+    if shot:
+        frac, wh = C.image_check(shot, rep["fluid_box_px"])
+        T.check(frac > 0.3, "GUI screenshot %dx%d: %.0f %% of the fluid region differs from the background"
+                % (wh[0], wh[1], 100 * frac))
+    else:
+        T.check(False, "the GUI wrote a screenshot")
+T.finish(tmp)
