@@ -97,14 +97,6 @@ def frame_from_vtk(dataset, time=None, path=None):
     return Frame(points, arrays, fields, time=time, path=path)
 
 
-<<<<<<< HEAD
-def read_vtu(path, time=None):
-    """Read one frame written by the solver: a .vtu, or the .pvtu of a run on several MPI ranks."""
-    from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader, vtkXMLUnstructuredGridReader
-    if not os.path.isfile(path):
-        raise FileNotFoundError("frame file not found: %s" % path)
-    r = vtkXMLPUnstructuredGridReader() if path.endswith(".pvtu") else vtkXMLUnstructuredGridReader()
-=======
 def read_dataset(path):
     """The vtkDataSet of one frame file: .vtu, or .pvtu pieces (merged by VTK's parallel reader), or any
     other VTK XML dataset a .pvd may list."""
@@ -115,7 +107,6 @@ def read_dataset(path):
     ext = os.path.splitext(path)[1].lower()
     r = {".vtu": vtkXMLUnstructuredGridReader, ".pvtu": vtkXMLPUnstructuredGridReader}.get(
         ext, vtkXMLGenericDataObjectReader)()
->>>>>>> main
     r.SetFileName(path)
     r.Update()
     out = r.GetOutputDataObject(0)

@@ -15,13 +15,10 @@ struct CommandArgs {
   std::vector<std::string> overrides;
   int threads = 0;
   bool overwrite = false, quiet = false;
-<<<<<<< HEAD
-  std::shared_ptr<parallel::Communicator> comm;  // all ranks of the run (one: the serial program)
-=======
   std::string state, paraview_exe;  // paraview
   std::vector<std::string> paraview_args;
   bool dry_run = false;             // paraview
->>>>>>> main
+  std::shared_ptr<parallel::Communicator> comm;  // all ranks of the run (one: the serial program)
 };
 
 int command_run(const CommandArgs& a);
