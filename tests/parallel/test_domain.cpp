@@ -44,7 +44,7 @@ std::vector<std::vector<std::tuple<std::int64_t, std::uint32_t, bool>>> visits(c
                                                                               const Particles<D>& p, Real rc) {
   std::int64_t n_ids = 0;
   for (const auto& b : g.blocks()) n_ids += b.end - b.begin;
-  std::vector<std::vector<std::tuple<std::int64_t, std::uint32_t, bool>>> out(std::size_t(n_ids));
+  std::vector<std::vector<std::tuple<std::int64_t, std::uint32_t, bool>>> out(static_cast<std::size_t>(n_ids));
   for (const auto& b : g.blocks())
     for (std::uint32_t i = b.begin; i < b.end; ++i) {
       auto& v = out[std::size_t(p.id[i])];
@@ -137,7 +137,7 @@ TEST(DomainOneRank, HashGridIsRefused) {
   NeighborGrid<2> g;
   g.configure(o);
   Particles<2> p;
-  fill(p, 10, 1, Vec<2>::Zero(), Vec<2>::Ones());
+  fill<2>(p, 10, 1, Vec<2>(Vec<2>::Zero()), Vec<2>(Vec<2>::Ones()));
   Domain<2> domain(std::make_shared<SerialCommunicator>(), DomainOptions{});
   domain.attach(p.store, {"position"});
   domain.adopt(p.store, 0);
