@@ -25,6 +25,7 @@ Writes (and prints each path):
 and '#' comments, columns T,P (dimensionless: T = t sqrt(g/H), P = p/(rho g H); the run is converted with
 H = the initial water column height, rho0 and |g| of the run, or :H=..:rho=..:g=..) or t,p (s, Pa).
 Plots need matplotlib inside pvpython; without it the CSV files are still written and a message says so.
+Given a `varsph study` directory (with study.json), it shows every level side by side (study_levels.py).
 Exit status 2 on bad input (a missing run, a malformed reference file), naming the file.
 """
 import argparse
@@ -220,6 +221,9 @@ def main(argv=None):
     ap.add_argument("--probe-points", default=None, help="pressure from the frames at 'x,y[,z];...' (output rate)")
     ap.add_argument("--no-snapshots", action="store_true", help="skip the ParaView pictures")
     a = ap.parse_args(argv)
+    if os.path.isfile(os.path.join(a.run, "study.json")):  # a `varsph study` directory: every level side by side
+        import study_levels
+        return study_levels.main([a.run])
 
     runs = [a.run] + ([a.compare] if a.compare else [])
     try:

@@ -14,10 +14,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
 
+#include "detail/input_checks.h"
 #include "varsph/geometry/geometry_error.h"
 
 namespace varsph::geometry {
@@ -61,7 +63,8 @@ void canonical_order(Eigen::MatrixXd& V, Eigen::MatrixXi& F) {
 }  // namespace
 
 TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d& T,
-                       bool check_self_intersection, std::vector<std::string>& notes) {
+                       bool check_self_intersection, std::vector<std::string>& notes,
+                       const std::function<void(double)>& check_soup_area) {
   const std::string ext = lower_ext(path);
   if (ext != ".stl" && ext != ".obj" && ext != ".off" && ext != ".ply")
     throw GeometryError(path, "unsupported mesh file extension '" + path.extension().string() +
@@ -78,6 +81,13 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
   if (std::filesystem::file_size(path, ec) == 0)
     throw GeometryError(path, "mesh file is empty; expected at least one triangle");
 
+  // counts the header declares must fit the file before a reader allocates from them
+  detail::check_declared_counts(path, ext);
+  if (check_soup_area && ext == ".stl") {  // binary STL: the estimate straight from the file, before CGAL
+    const double A[9] = {T(0, 0), T(0, 1), T(0, 2), T(1, 0), T(1, 1), T(1, 2), T(2, 0), T(2, 1), T(2, 2)};
+    if (const double area = detail::binary_stl_area(path, A); area >= 0 && std::isfinite(area)) check_soup_area(area);
+  }
+
   std::vector<Point> pts;
   std::vector<std::vector<std::size_t>> polys;
   bool ok = false;
@@ -86,15 +96,35 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
   } catch (const std::exception& e) {
     throw GeometryError(path, std::string("cannot parse mesh file (") + e.what() + ")");
   }
-  if (!ok && polys.empty())
+  // a reader that stopped early (premature end, bad token) may leave a partial soup: never use it
+  if (!ok)
     throw GeometryError(path, "cannot parse mesh file as " + ext.substr(1) +
-                                  "; expected a valid polygon mesh in that format");
+                                  "; expected a valid polygon mesh in that format (truncated or damaged?)");
   if (polys.empty()) throw GeometryError(path, "mesh file holds no faces; expected at least one triangle");
 
+  // non-finite or absurd coordinates stop here, before any repair or sampler sees them
+  auto check = [&](bool bounded, const char* stage) {
+    std::vector<double> xyz(3 * pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      xyz[3 * i] = pts[i].x(); xyz[3 * i + 1] = pts[i].y(); xyz[3 * i + 2] = pts[i].z();
+    }
+    detail::check_coordinates(path, xyz.data(), pts.size(), bounded, stage);
+  };
+  check(false, "in the file");
   // transform the vertices first (repairs then work in metres)
   for (auto& p : pts) {
     const Eigen::Vector4d q = T * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
     p = Point(q.x(), q.y(), q.z());
+  }
+  check(true, "after the transform");
+  if (check_soup_area) {  // the raw soup's area (polygons fanned into triangles), before the repairs
+    double area = 0;
+    for (const auto& poly : polys)
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+        if (poly[0] >= pts.size() || poly[k] >= pts.size() || poly[k + 1] >= pts.size()) continue;
+        area += std::sqrt(CGAL::squared_area(pts[poly[0]], pts[poly[k]], pts[poly[k + 1]]));
+      }
+    check_soup_area(area);
   }
   // merge exactly duplicated vertices
   std::map<Point, std::size_t> unique;

@@ -1,9 +1,11 @@
 #include "varsph/geometry/read_polylines.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "detail/input_checks.h"
 #include "varsph/geometry/fill_polygons.h"
 #include "varsph/geometry/geometry_error.h"
 
@@ -51,6 +53,7 @@ std::vector<Polyline2> read_polylines(const std::filesystem::path& path, const E
   if (!in) throw GeometryError(path, "polyline file cannot be opened for reading");
   std::vector<Polyline2> out;
   std::vector<Eigen::Vector2d> cur;
+  std::vector<int> lines;  // file line of each point of `cur`
   bool open = false;
   int cur_line = 0;
   auto flush = [&]() {
@@ -60,13 +63,21 @@ std::vector<Polyline2> read_polylines(const std::filesystem::path& path, const E
     Polyline2 p;
     p.closed = !open;
     if (p.closed && (cur.front() - cur.back()).norm() == 0.0) cur.pop_back();  // repeated first point
+    lines.resize(cur.size());
     p.P.resize(static_cast<Eigen::Index>(cur.size()), 2);
     for (std::size_t i = 0; i < cur.size(); ++i) {
       const Eigen::Vector4d q = T * Eigen::Vector4d(cur[i].x(), cur[i].y(), 0.0, 1.0);
       p.P.row(static_cast<Eigen::Index>(i)) << q.x(), q.y();
+      if (!std::isfinite(q.x()) || !std::isfinite(q.y()) || std::abs(q.x()) > detail::kMaxCoordinate ||
+          std::abs(q.y()) > detail::kMaxCoordinate)
+        throw GeometryError(path, "line " + std::to_string(lines[i]) + ": point (" + std::to_string(cur[i].x()) + ", " +
+                                      std::to_string(cur[i].y()) + ") is (" + std::to_string(q.x()) + ", " +
+                                      std::to_string(q.y()) + ") m after the transform; expected finite coordinates "
+                                      "within +-1e9 m");
     }
     out.push_back(std::move(p));
     cur.clear();
+    lines.clear();
     open = false;
   };
   std::string line;
@@ -88,7 +99,10 @@ std::vector<Polyline2> read_polylines(const std::filesystem::path& path, const E
     std::string extra;
     if (!(ls >> x >> y) || (ls >> extra))
       throw GeometryError(path, "line " + std::to_string(lineno) + ": expected 'x y' (two numbers), 'open' or a comment, got '" + line + "'");
+    if (!std::isfinite(x) || !std::isfinite(y))
+      throw GeometryError(path, "line " + std::to_string(lineno) + ": expected finite coordinates, got '" + line + "'");
     cur.emplace_back(x, y);
+    lines.push_back(lineno);
     cur_line = lineno;
   }
   flush();

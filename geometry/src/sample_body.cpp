@@ -32,25 +32,62 @@ std::string fmt(const Eigen::VectorXd& v) {
   return s.str();
 }
 
-// warnings about a geometry that does not fit the domain (wrong units, wrong transform)
+// The region to be sampled must lie in the domain (an error before sampling: wrong units or transform),
+// span a sane number of spacings, and the particle estimate must fit the request's limit.
+// lo/hi: bounding box of the geometry (for a volume fill already cut to the clip box).
 void check_domain(const BodyRequest& r, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
                   std::vector<std::string>& notes) {
   const std::string name = r.mesh.string();
   const Eigen::VectorXd size = hi - lo;
+  // more than 1e7 spacings on one axis: beyond any particle budget, and the samplers' int lattice
+  // counts would overflow near 2^31
+  if ((size.array() / r.spacing > 1e7).any())
+    throw GeometryError(r.mesh, "mesh is " + fmt(size) + " m across, more than 1e7 spacings (" +
+                                    std::to_string(r.spacing) + " m) on an axis; expected a body of a sane "
+                                    "size in metres (wrong units, transform or spacing?)");
   if (r.domain_min.size() == lo.size() && r.domain_max.size() == lo.size()) {
     const Eigen::VectorXd dsize = r.domain_max - r.domain_min;
-    if ((size.array() > 10.0 * dsize.array()).any()) {
-      notes.push_back("warning: " + name + ": mesh bounding box size " + fmt(size) +
-                      " m is more than 10 times the domain size " + fmt(dsize) +
-                      " m; is the mesh in millimetres (scale 0.001 in the transform)?");
-    } else if (((lo - r.domain_min).array() < -r.spacing).any() || ((hi - r.domain_max).array() > r.spacing).any()) {
-      notes.push_back("warning: " + name + ": mesh bounding box " + fmt(lo) + " .. " + fmt(hi) +
-                      " m sticks out of the domain " + fmt(r.domain_min) + " .. " + fmt(r.domain_max) + " m");
+    const double out = std::max((r.domain_min - lo).maxCoeff(), (hi - r.domain_max).maxCoeff());
+    if (out > r.spacing) {
+      std::string hint;
+      if ((size.array() > 10.0 * dsize.array()).any())
+        hint = " (the mesh is more than 10 times the domain's size: is it in millimetres? transform.scale 0.001)";
+      throw GeometryError(r.mesh, "mesh bounding box " + fmt(lo) + " .. " + fmt(hi) + " m (after the transform) "
+                                      "lies outside the domain " + fmt(r.domain_min) + " .. " + fmt(r.domain_max) +
+                                      " m by up to " + std::to_string(out) + " m" + hint +
+                                      "; expected a mesh inside domain.min/max (particles may not leave the domain)");
     }
   }
   if ((size.array() / r.spacing > 1e5).any())
     notes.push_back("warning: " + name + ": mesh is " + fmt(size) + " m across, more than 1e5 spacings (" +
                     std::to_string(r.spacing) + " m); check the units");
+}
+
+// Particles a body will produce, before sampling: surface measure / dx^(dim-1) x layers, or the enclosed
+// measure (within the lattice box) / dx^dim. Refused when above the request's limit.
+void check_estimate(const BodyRequest& r, double surface, double enclosed, double box_measure) {
+  if (!(r.max_particles > 0)) return;
+  const int dim = r.dimension;
+  const double dx = r.spacing;
+  double est;
+  std::string how;
+  if (r.fill == "volume") {
+    const double m = std::min(std::abs(enclosed), box_measure);
+    est = m / std::pow(dx, dim);
+    how = "enclosed " + std::string(dim == 3 ? "volume " : "area ") + std::to_string(m) +
+          (dim == 3 ? " m^3 / dx^3" : " m^2 / dx^2");
+  } else {
+    est = surface / std::pow(dx, dim - 1) * r.layers;
+    how = std::string(dim == 3 ? "surface area " : "length ") + std::to_string(surface) +
+          (dim == 3 ? " m^2 / dx^2" : " m / dx") + " x " + std::to_string(r.layers) + " layers";
+  }
+  if (!(est <= r.max_particles)) {  // also catches NaN
+    std::ostringstream m;
+    m.precision(3);
+    m << "would produce about " << est << " particles (" << how << ", dx = " << dx << " m), more than the limit of "
+      << r.max_particles << "; expected a coarser spacing, a smaller mesh, or a higher particles.max_count";
+    throw GeometryError(r.mesh, m.str());
+  }
 }
 
 void validate(const BodyRequest& r) {
@@ -65,6 +102,12 @@ void validate(const BodyRequest& r) {
     bad("clip_min and clip_max must both be empty or both have " + std::to_string(r.dimension) + " entries");
   if (r.exclusion_points.rows() > 0 && r.exclusion_points.cols() != r.dimension)
     bad("exclusion_points must have " + std::to_string(r.dimension) + " columns");
+  if (!(r.max_particles >= 0)) bad("max_particles must be >= 0 (0 = no limit)");
+  if (!r.transform.allFinite()) bad("transform must hold finite numbers");
+  if (!r.section_point.allFinite() || !r.section_normal.allFinite()) bad("section point and normal must be finite");
+  if (!r.clip_min.allFinite() || !r.clip_max.allFinite()) bad("clip_min and clip_max must be finite");
+  if (r.domain_min.size() != r.domain_max.size() || !r.domain_min.allFinite() || !r.domain_max.allFinite())
+    bad("domain_min and domain_max must both be empty or both hold finite numbers");
 }
 
 void apply_exclusion(const BodyRequest& r, SampledBody& out) {
@@ -94,11 +137,22 @@ SampledBody sample_body(const BodyRequest& r) {
     throw GeometryError(r.mesh, "a .poly2d polyline file describes a 2D body; expected a 3D mesh (.stl, .obj, .off, .ply) for dimension 3");
 
   if (dim == 3) {
-    TriangleMesh m = read_mesh(r.mesh, r.transform, volume, out.notes);
+    // a surface fill's estimate is checked on the raw soup already: 200k random triangles are refused
+    // before the O(#F log #F) repairs
+    const auto early = [&](double soup_area) { if (!volume) check_estimate(r, soup_area, 0, 0); };
+    TriangleMesh m = read_mesh(r.mesh, r.transform, volume, out.notes, early);
     out.surface_measure = m.area;
     out.enclosed_measure = m.volume;
-    const Eigen::VectorXd lo = m.V.colwise().minCoeff().transpose(), hi = m.V.colwise().maxCoeff().transpose();
+    Eigen::VectorXd lo = m.V.colwise().minCoeff().transpose(), hi = m.V.colwise().maxCoeff().transpose();
+    double box_measure = (hi - lo).prod();
+    if (volume && r.clip_min.size() == 3) {  // only the clipped part is sampled
+      lo = lo.cwiseMax(r.clip_min);
+      hi = hi.cwiseMin(r.clip_max);
+      box_measure = (hi - lo).cwiseMax(0.0).prod();
+      hi = hi.cwiseMax(lo);
+    }
     check_domain(r, lo, hi, out.notes);
+    check_estimate(r, m.area, m.volume, box_measure);
     if (volume) {
       if (m.border_edges > 0)
         throw GeometryError(r.mesh, "mesh is not closed (" + std::to_string(m.border_edges) +
@@ -144,7 +198,15 @@ SampledBody sample_body(const BodyRequest& r) {
       else ++open;
     }
     if (open > 0) out.enclosed_measure = 0;
+    double box_measure = (hi - lo).prod();
+    if (volume && r.clip_min.size() == 2) {
+      lo = lo.cwiseMax(Eigen::Vector2d(r.clip_min));
+      hi = hi.cwiseMin(Eigen::Vector2d(r.clip_max));
+      box_measure = (hi - lo).cwiseMax(0.0).prod();
+      hi = hi.cwiseMax(lo);
+    }
     check_domain(r, lo, hi, out.notes);
+    check_estimate(r, out.surface_measure, out.enclosed_measure, box_measure);
     if (volume) {
       if (open > 0)
         throw GeometryError(r.mesh, std::to_string(open) + " polyline(s) are open; volume fill needs closed loops");

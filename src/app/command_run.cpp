@@ -1,10 +1,12 @@
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <thread>
 
 #include "app/commands.hpp"
 #include "parallel/collective.hpp"
+#include "scene/sanity.hpp"
 #include "scene/scene.hpp"
 #include "sim/runner.hpp"
 
@@ -15,6 +17,8 @@ int command_run(const CommandArgs& a) {
   std::optional<scene::Scene> parsed;
   parallel::collectively(*a.comm, [&] { parsed = scene::parse_scene(a.scene, a.overrides); });
   const scene::Scene& s = *parsed;
+  if (a.comm->root())  // one warning per run, not one per rank
+    for (const auto& w : scene::check_sanity(s)) std::fprintf(stderr, "varsph: warning: %s: %s\n", s.file.string().c_str(), w.c_str());
   RunOptions o;
   if (!a.output.empty()) o.output_dir = a.output;
   else if (!a.restart.empty())  // DIR/checkpoints/step_N.h5 -> DIR: continue in the run's own directory

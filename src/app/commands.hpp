@@ -5,6 +5,11 @@
 #include <vector>
 
 #include "parallel/communicator.hpp"
+#include "study/study_options.hpp"
+
+namespace CLI {
+class App;
+}
 
 namespace varsph {
 
@@ -26,5 +31,15 @@ int command_info(const CommandArgs& a);
 int command_sample(const CommandArgs& a);
 int command_compare(const CommandArgs& a);
 int command_paraview(const CommandArgs& a);
+
+// `varsph study` has its own options (src/app/command_study.cpp)
+struct StudyCli {
+  study::StudyOptions o;
+  std::vector<std::string> scenes, windows;
+  std::string output, refine = "both", ratio = "2";
+  bool ratio_given = false, no_plots = false, no_extra_probes = false;
+};
+CLI::App* add_study_command(CLI::App& app, StudyCli& c);
+int command_study(StudyCli& c, const std::vector<std::string>& argv);
 
 }  // namespace varsph

@@ -1,5 +1,5 @@
-// The `varsph` command: run, info, sample, compare, paraview (CONTRACT.md). Exit codes: 0 ok, 1 internal error,
-// 2 invalid input or usage, 3 numerical failure, 4 I/O failure, 130/143 interrupted.
+// The `varsph` command: run, info, sample, compare, study, paraview (CONTRACT.md). Exit codes: 0 ok,
+// 1 internal error, 2 invalid input or usage, 3 numerical failure, 4 I/O failure, 130/143 interrupted.
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
   compare->add_flag("--overwrite", args.overwrite, "Replace an existing non-empty output directory");
   compare->add_flag("--quiet", args.quiet, "Print only errors");
 
+  StudyCli study_cli;
+  auto* study = add_study_command(app, study_cli);
+
   auto* paraview = app.add_subcommand("paraview", "Open the ParaView GUI on a run: varsph plugin loaded, a state shown");
   paraview->add_option("run", args.run_a, "Run directory (or its .pvd)")->required();
   paraview->add_option("run_b", args.run_b, "Second run, for the deviation state");
@@ -97,6 +100,10 @@ int main(int argc, char** argv) {
     if (*info) return command_info(args);
     if (*sample) return command_sample(args);
     if (*compare) return command_compare(args);
+    if (*study) {
+      study_cli.ratio_given = study->count("--ratio") > 0;
+      return command_study(study_cli, args.argv);
+    }
     if (*paraview) return command_paraview(args);
   } catch (const InputError& e) {
     return fail(kExitInput, "error", e.what());

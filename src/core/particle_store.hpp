@@ -46,6 +46,8 @@ class FieldBase {
   virtual void* raw() = 0;
   // out[k] = in[perm[k]] for every particle; `scratch` is reused to avoid allocation.
   virtual void permute(std::span<const std::uint32_t> perm, std::vector<std::byte>& scratch) = 0;
+  // Keeps the particles kept[0..m) in that order and shrinks to m: out[k] = in[kept[k]] (particle removal).
+  virtual void compact(std::span<const std::uint32_t> kept) = 0;
   std::size_t bytes_per_particle() const { return element_bytes_; }
 
  protected:
@@ -91,6 +93,11 @@ class Field final : public FieldBase {
     for (long k = 0; k < n; ++k) tmp[k] = d[perm[std::size_t(k)]];
 #pragma omp parallel for schedule(static)
     for (long k = 0; k < n; ++k) d[k] = tmp[k];
+  }
+  void compact(std::span<const std::uint32_t> kept) override {
+    // kept is ascending (stable compaction), so kept[k] >= k and the copy can run in place, front to back
+    for (std::size_t k = 0; k < kept.size(); ++k) data[k] = data[kept[k]];
+    data.resize(kept.size());
   }
   T& operator[](std::size_t i) { return data[i]; }
   const T& operator[](std::size_t i) const { return data[i]; }
@@ -145,6 +152,15 @@ class ParticleStore {
   // Reorders every registered field: new[k] = old[perm[k]].
   void permute(std::span<const std::uint32_t> perm) {
     for (auto& f : fields_) f->permute(perm, scratch_);
+  }
+  // Removes particles: keeps only the indices in `kept` (strictly ascending, so the order of the survivors
+  // is unchanged and the stable `id` field travels with them) in every registered field.
+  void compact(std::span<const std::uint32_t> kept) {
+    for (std::size_t k = 1; k < kept.size(); ++k)
+      if (kept[k] <= kept[k - 1]) throw std::logic_error("ParticleStore::compact: indices not strictly ascending");
+    if (!kept.empty() && kept.back() >= size_) throw std::logic_error("ParticleStore::compact: index out of range");
+    for (auto& f : fields_) f->compact(kept);
+    size_ = kept.size();
   }
   const std::vector<std::unique_ptr<FieldBase>>& fields() const { return fields_; }
 

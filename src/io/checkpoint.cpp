@@ -1,5 +1,8 @@
 // HDF5 checkpoints through the C API. Datasets are chunked with the Fletcher-32 filter and the file uses
-// the 1.8+ object header format (metadata checksums), so a flipped byte anywhere is detected on read.
+// the 1.8+ object header format (metadata checksums); on top of that a 64-bit content digest over every
+// value the reader returns (attributes, texts, arrays) is stored as the root attribute `content_digest`,
+// so a flipped bit that HDF5 does not see still cannot give a wrong state, and every size the file claims
+// is bounded by the file's size before HDF5 allocates it (the 1.8 chunk index has no checksum).
 #include "io/checkpoint.hpp"
 
 #include <hdf5.h>
@@ -43,6 +46,55 @@ class Handle {
 };
 
 void silence_hdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+// Content digest: 8-byte words mixed by (h ^ w) * odd constant and an xorshift, each step a bijection
+// in h and in w, so changing any one word of the input always changes the result. Lengths are mixed
+// in first, so field boundaries count too. Not cryptographic: it guards against damage, not forgery.
+class Digest {
+ public:
+  void bytes(const void* data, std::size_t n) {
+    word(n);
+    const auto* p = static_cast<const unsigned char*>(data);
+    std::size_t k = 0;
+    for (; k + 8 <= n; k += 8) {
+      std::uint64_t w;
+      std::memcpy(&w, p + k, 8);
+      word(w);
+    }
+    std::uint64_t tail = 0;
+    if (n > k) std::memcpy(&tail, p + k, n - k);  // an empty array may have no storage (nullptr)
+    word(tail);
+  }
+  void text(const std::string& s) { bytes(s.data(), s.size()); }
+  template <class T>
+  void value(const T& v) { bytes(&v, sizeof v); }
+  std::uint64_t result() const { return h_; }
+
+ private:
+  void word(std::uint64_t w) {
+    h_ = (h_ ^ w) * 0x9E3779B97F4A7C15ull;
+    h_ ^= h_ >> 29;
+  }
+  std::uint64_t h_ = 0xCBF29CE484222325ull;
+};
+
+// The header part of the digest, in the order the reader sees the values.
+void digest_header(Digest& d, const CheckpointHeader& h, const std::string& scene, const std::string& integ,
+                   const std::string& runner, const std::string& order) {
+  d.value(h.format_version);
+  d.text(h.program_version);
+  d.text(h.real_type);
+  d.value(h.dimension);
+  d.value(h.step);
+  d.value(h.time);
+  d.value(h.dt);
+  d.value(h.particles);
+  d.text(h.integrator);
+  d.text(scene);
+  d.text(integ);
+  d.text(runner);
+  d.text(order);
+}
 
 hid_t native_type(ScalarType t) {
   switch (t) {
@@ -131,21 +183,24 @@ void write_file(const std::filesystem::path& tmp, const std::string& shown, cons
   silence_hdf5();
   const Writer w{shown};
   Handle fapl(w.check_id(H5Pcreate(H5P_FILE_ACCESS), "file properties"));
-  // 1.8+ object headers carry checksums: corrupted metadata is detected on read
+  // 1.8+ object headers carry checksums: corrupted metadata is detected on read. Not the 1.10 format:
+  // with HDF5 1.10.8 a disk-full failure then leaves datasets that H5_term_library crashes on at exit
+  // (IoFailure.DiskFullGivesExit4AndLeavesNoPartialFile); the content digest covers what 1.10 would add
   w.check(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_LATEST), "file format bounds");
   const hid_t fid = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
   if (fid < 0) w.fail("cannot create " + tmp.string());
   try {
     const hid_t root = fid;
     const ParticleStore& store = *c.store;
+    Digest digest;  // content_digest: what the reader will see of this file, in its order
     std::string order;
     for (const auto& f : store.fields())
       if (f->flags().checkpointed) order += (order.empty() ? "" : "\n") + f->name();
     if (c.header) {
       const CheckpointHeader& h = *c.header;
       w.attr_string(root, "format", kMagic);
-      // a checkpoint in pieces is format 2 (older readers refuse it instead of misreading it)
-      const int version = c.pieces ? 2 : h.format_version;
+      // a checkpoint in pieces has its own format version (older readers refuse it instead of misreading it)
+      const int version = c.pieces ? kCheckpointPiecesFormatVersion : h.format_version;
       w.attr(root, "format_version", H5T_NATIVE_INT, version);
       w.attr_string(root, "program_version", h.program_version);
       w.attr_string(root, "real", h.real_type);
@@ -162,17 +217,26 @@ void write_file(const std::filesystem::path& tmp, const std::string& shown, cons
       w.attr(root, "particles", H5T_NATIVE_INT64, n);
       w.attr_string(root, "integrator", h.integrator);
       Handle meta(w.check_id(H5Gcreate2(fid, "meta", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "group meta"));
-      w.text(meta.get(), "scene", h.scene.dump());
-      w.text(meta.get(), "integrator_state", h.integrator_state.dump());
-      w.text(meta.get(), "runner_state", h.runner_state.dump());
+      const std::string scene = h.scene.dump(), integ = h.integrator_state.dump(), runner = h.runner_state.dump();
+      w.text(meta.get(), "scene", scene);
+      w.text(meta.get(), "integrator_state", integ);
+      w.text(meta.get(), "runner_state", runner);
       w.text(meta.get(), "field_order", order);
       if (c.pieces)
         w.dataset(meta.get(), "piece_particles", H5T_NATIVE_INT64, c.pieces->size(), 1, c.pieces->data());
+      CheckpointHeader hd = h;
+      hd.format_version = version;
+      hd.particles = n;
+      digest_header(digest, hd, scene, integ, runner, order);
+      if (c.pieces) digest.bytes(c.pieces->data(), c.pieces->size() * sizeof(std::int64_t));
     } else {
       w.attr_string(root, "format", kPieceMagic);
       w.attr(root, "piece", H5T_NATIVE_INT, c.piece);
       const std::int64_t n = std::int64_t(c.count);
       w.attr(root, "particles", H5T_NATIVE_INT64, n);
+      digest.value(c.piece);
+      digest.value(n);
+      digest.text(order);
     }
     if (!c.pieces) {
       Handle parts(
@@ -181,7 +245,15 @@ void write_file(const std::filesystem::path& tmp, const std::string& shown, cons
         if (!f->flags().checkpointed) continue;
         w.dataset(parts.get(), f->name(), native_type(f->scalar_type()), c.count, f->components(), f->raw());
       }
+      for (const auto& f : store.fields()) {
+        if (!f->flags().checkpointed) continue;
+        digest.text(f->name());
+        digest.value(int(f->scalar_type()));
+        digest.value(f->components());
+        digest.bytes(f->raw(), f->bytes_per_particle() * c.count);
+      }
     }
+    w.attr(root, "content_digest", H5T_NATIVE_UINT64, digest.result());
     w.check(H5Fflush(fid, H5F_SCOPE_GLOBAL), "flushing");
   } catch (...) {
     H5Fclose(fid);
@@ -194,6 +266,11 @@ void write_file(const std::filesystem::path& tmp, const std::string& shown, cons
 
 struct Reader {
   std::string file;
+  std::uintmax_t file_bytes = 0;  // nothing read from the file can be larger than the file
+  void check_size(double bytes, const std::string& what) const {
+    if (!(bytes <= double(file_bytes)))
+      fail(what + " claims " + std::to_string(bytes) + " bytes, more than the file's " + std::to_string(file_bytes));
+  }
   [[noreturn]] void fail(const std::string& what) const {
     throw InputError(file + ": not a usable varsph checkpoint: " + what);
   }
@@ -215,16 +292,15 @@ struct Reader {
     Handle type(check_id(H5Aget_type(a.get()), name));
     if (H5Tget_class(type.get()) != H5T_STRING) fail(std::string("attribute '") + name + "' is not a string");
     const std::size_t size = H5Tget_size(type.get());
+    check_size(double(size), std::string("attribute '") + name + "'");
     std::string s(size, '\0');
     if (H5Aread(a.get(), type.get(), s.data()) < 0) fail(std::string("attribute '") + name + "' is unreadable");
     s.resize(std::strlen(s.c_str()));
     return s;
   }
   // Reads a dataset of rows x components scalars of the given type; returns rows.
-  // With take >= 0 only rows [first, first + take) are read (a rank's share of a checkpoint).
   std::vector<std::byte> dataset(hid_t group, const std::string& name, ScalarType type, std::int64_t rows,
-                                 int& components_out, bool is_text = false, std::int64_t first = 0,
-                                 std::int64_t take = -1) const {
+                                 int& components_out, bool is_text = false) const {
     if (H5Lexists(group, name.c_str(), H5P_DEFAULT) <= 0) fail("dataset '" + name + "' is missing");
     Handle d(check_id(H5Dopen2(group, name.c_str(), H5P_DEFAULT), "dataset '" + name + "' is unreadable"));
     Handle space(check_id(H5Dget_space(d.get()), name));
@@ -243,22 +319,15 @@ struct Reader {
     if (!is_text && ((cls == H5T_FLOAT) != want_float || (cls != H5T_FLOAT && cls != H5T_INTEGER) ||
                      fsize != scalar_bytes(type)))
       fail("dataset '" + name + "' has another scalar type than " + type_name(type));
-    if (take < 0) {
-      first = 0;
-      take = std::int64_t(dims[0]);
-    }
-    if (first < 0 || first + take > std::int64_t(dims[0])) fail("dataset '" + name + "' is shorter than expected");
-    const std::size_t count = std::size_t(take) * std::size_t(components_out);
+    check_size(double(dims[0]) * double(components_out) * double(is_text ? 1 : scalar_bytes(type)),
+               "dataset '" + name + "'");
+    // the chunk sizes the index records (HDF5 allocates them before the checksum is seen; the 1.8-format
+    // chunk index of format-1 files carries no checksum of its own)
+    check_size(double(H5Dget_storage_size(d.get())), "dataset '" + name + "' storage");
+    const std::size_t count = std::size_t(dims[0]) * std::size_t(components_out);
     std::vector<std::byte> out(count * (is_text ? 1 : scalar_bytes(type)));
-    if (count == 0) return out;
-    Handle file_space(check_id(H5Dget_space(d.get()), name));
-    hsize_t start[2] = {hsize_t(first), 0}, size[2] = {hsize_t(take), dims[1]};
-    if (rank == 1) size[1] = 1;
-    if (H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, size, nullptr) < 0)
-      fail("dataset '" + name + "': cannot select rows");
-    Handle mem_space(check_id(H5Screate_simple(rank, size, nullptr), name));
-    if (H5Dread(d.get(), is_text ? H5T_NATIVE_CHAR : native_type(type), mem_space.get(), file_space.get(), H5P_DEFAULT,
-                out.data()) < 0)
+    if (count > 0 &&
+        H5Dread(d.get(), is_text ? H5T_NATIVE_CHAR : native_type(type), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
       fail("dataset '" + name + "' is corrupted (checksum or read error)");
     return out;
   }
@@ -267,9 +336,9 @@ struct Reader {
     const auto b = dataset(group, name, ScalarType::Int32, -1, comps, true);
     return std::string(reinterpret_cast<const char*>(b.data()), b.size());
   }
-  nlohmann::json json_text(hid_t group, const std::string& name) const {
+  nlohmann::json json_of(const std::string& text, const std::string& name) const {
     try {
-      return nlohmann::json::parse(text(group, name));
+      return nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception&) {
       fail("meta/" + name + " is not valid JSON");
     }
@@ -329,10 +398,11 @@ void remove_checkpoint(const std::filesystem::path& path) {
 
 Checkpoint read_checkpoint(const std::filesystem::path& path, int part, int parts) {
   silence_hdf5();
-  const Reader r{path.string()};
+  Reader r{path.string()};
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(path.string() + ": checkpoint file not found (--restart expects DIR/checkpoints/step_N.h5)");
+  r.file_bytes = std::filesystem::file_size(path, ec);
   if (H5Fis_hdf5(path.c_str()) <= 0) r.fail("not an HDF5 file (truncated or corrupted?)");
   Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
   if (!file.ok()) r.fail("HDF5 cannot open it (truncated or corrupted?)");
@@ -358,26 +428,22 @@ Checkpoint read_checkpoint(const std::filesystem::path& path, int part, int part
 
   if (H5Lexists(fid, "meta", H5P_DEFAULT) <= 0) r.fail("group 'meta' is missing");
   Handle meta(r.check_id(H5Gopen2(fid, "meta", H5P_DEFAULT), "group 'meta' is unreadable"));
-  h.scene = r.json_text(meta.get(), "scene");
-  h.integrator_state = r.json_text(meta.get(), "integrator_state");
-  h.runner_state = r.json_text(meta.get(), "runner_state");
+  const std::string scene = r.text(meta.get(), "scene"), integ = r.text(meta.get(), "integrator_state"),
+                    runner = r.text(meta.get(), "runner_state");
   const std::string order = r.text(meta.get(), "field_order");
+  Digest digest;
+  digest_header(digest, h, scene, integ, runner, order);
+  h.scene = r.json_of(scene, "scene");
+  h.integrator_state = r.json_of(integ, "integrator_state");
+  h.runner_state = r.json_of(runner, "runner_state");
 
-  // this reader's share: rows [first, first + take) of the particles (all of them for part 0 of 1)
-  c.first_row = h.particles * part / parts;
-  c.rows = h.particles * (part + 1) / parts - c.first_row;
-  std::vector<std::string> names;
-  {
+  // Every field of `group` (one file), all `expected_rows` rows, added to `dg` as written.
+  auto read_all = [&](const Reader& rd, hid_t group, std::int64_t expected_rows, Digest& dg) {
+    std::vector<CheckpointArray> out;
     std::stringstream ss(order);
     std::string name;
-    while (std::getline(ss, name))
-      if (!name.empty()) names.push_back(name);
-  }
-  // Appends rows [first, first + take) of every field in `group` (one file) to c.arrays.
-  auto read_rows = [&](const Reader& rd, hid_t group, std::int64_t expected_rows, std::int64_t first,
-                       std::int64_t take) {
-    for (std::size_t k = 0; k < names.size(); ++k) {
-      const std::string& name = names[k];
+    while (std::getline(ss, name)) {
+      if (name.empty()) continue;
       Handle d(rd.check_id(H5Dopen2(group, name.c_str(), H5P_DEFAULT), "dataset '" + name + "' is missing"));
       Handle t(rd.check_id(H5Dget_type(d.get()), name));
       const H5T_class_t cls = H5Tget_class(t.get());
@@ -388,55 +454,100 @@ Checkpoint read_checkpoint(const std::filesystem::path& path, int part, int part
       else if (cls == H5T_INTEGER && sz == 8) st = ScalarType::Int64;
       else if (cls == H5T_INTEGER && sz == 4) st = ScalarType::Int32;
       else rd.fail("dataset '" + name + "' has an unsupported scalar type");
-      int comps = 1;
-      auto bytes = rd.dataset(group, name, st, expected_rows, comps, false, first, take);
+      CheckpointArray a;
+      a.name = name;
+      a.type = st;
+      a.bytes = rd.dataset(group, name, st, expected_rows, a.components);
+      dg.text(a.name);
+      dg.value(int(a.type));
+      dg.value(a.components);
+      dg.bytes(a.bytes.data(), a.bytes.size());
+      out.push_back(std::move(a));
+    }
+    return out;
+  };
+  // Appends rows [lo, hi) of `from` (one file's arrays) to this reader's arrays.
+  auto take_rows = [&](const Reader& rd, const std::vector<CheckpointArray>& from, std::int64_t lo, std::int64_t hi) {
+    for (std::size_t k = 0; k < from.size(); ++k) {
+      const CheckpointArray& a = from[k];
       if (k >= c.arrays.size()) {
-        CheckpointArray arr;
-        arr.name = name;
-        arr.type = st;
-        arr.components = comps;
-        c.arrays.push_back(std::move(arr));
+        CheckpointArray e;
+        e.name = a.name;
+        e.type = a.type;
+        e.components = a.components;
+        c.arrays.push_back(std::move(e));
       }
-      CheckpointArray& arr = c.arrays[k];
-      if (arr.type != st || arr.components != comps) rd.fail("dataset '" + name + "' differs between pieces");
-      arr.bytes.insert(arr.bytes.end(), bytes.begin(), bytes.end());
+      CheckpointArray& out = c.arrays[k];
+      if (out.name != a.name || out.type != a.type || out.components != a.components)
+        rd.fail("dataset '" + a.name + "' differs between pieces");
+      const std::size_t row = scalar_bytes(a.type) * std::size_t(a.components);
+      out.bytes.insert(out.bytes.end(), a.bytes.begin() + std::ptrdiff_t(std::size_t(lo) * row),
+                       a.bytes.begin() + std::ptrdiff_t(std::size_t(hi) * row));
     }
   };
+  auto check_digest = [](const Reader& rd, hid_t file_id, const Digest& dg) {
+    if (rd.attr<std::uint64_t>(file_id, "content_digest", H5T_NATIVE_UINT64) != dg.result())
+      rd.fail("content digest mismatch (the file was damaged after it was written)");
+  };
+  // this reader's share: rows [first, first + rows) of the particles (all of them for part 0 of 1);
+  // every file it touches is read whole, so that its digest is checked
+  c.first_row = h.particles * part / parts;
+  c.rows = h.particles * (part + 1) / parts - c.first_row;
   if (H5Aexists(fid, "pieces") > 0) {
     // a checkpoint in pieces (distributed run): the rows are the pieces' particles in piece order
+    if (h.format_version != kCheckpointPiecesFormatVersion)
+      r.fail("attribute 'pieces' in a format " + std::to_string(h.format_version) + " file");
     const int pieces = r.attr<int>(fid, "pieces", H5T_NATIVE_INT);
     if (pieces < 1) r.fail("attribute 'pieces' is " + std::to_string(pieces));
     int one = 1;
     const auto raw = r.dataset(meta.get(), "piece_particles", ScalarType::Int64, pieces, one);
+    digest.bytes(raw.data(), raw.size());
+    check_digest(r, fid, digest);
     std::vector<std::int64_t> counts(static_cast<std::size_t>(pieces));
-    if (pieces > 0) std::memcpy(counts.data(), raw.data(), raw.size());
+    std::memcpy(counts.data(), raw.data(), raw.size());
     std::int64_t begin = 0;
     for (int k = 0; k < pieces; ++k) {
+      if (counts[std::size_t(k)] < 0) r.fail("piece " + std::to_string(k) + " has a negative particle count");
       const std::int64_t end = begin + counts[std::size_t(k)];
       const std::int64_t lo = std::max(begin, c.first_row), hi = std::min(end, c.first_row + c.rows);
       // pieces holding some of this reader's rows; piece 0 also when there are none (field shapes)
       if (lo < hi || (k == 0 && c.rows == 0)) {
         const auto piece = checkpoint_piece_path(path, k);
-        const Reader pr{piece.string()};
-        if (H5Fis_hdf5(piece.c_str()) <= 0)
+        Reader pr{piece.string()};
+        pr.file_bytes = std::filesystem::file_size(piece, ec);
+        if (ec || H5Fis_hdf5(piece.c_str()) <= 0)
           r.fail("piece " + std::to_string(k) + " (" + piece.string() + ") is missing or not an HDF5 file");
         Handle pf(H5Fopen(piece.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
         if (!pf.ok()) pr.fail("HDF5 cannot open it (truncated or corrupted?)");
         if (pr.attr_string(pf.get(), "format") != kPieceMagic) pr.fail("not a piece of a varsph checkpoint");
-        if (pr.attr<std::int64_t>(pf.get(), "particles", H5T_NATIVE_INT64) != counts[std::size_t(k)])
-          pr.fail("its particle count differs from the manifest's");
+        if (pr.attr<int>(pf.get(), "piece", H5T_NATIVE_INT) != k) pr.fail("its piece number differs from its name");
+        const auto n = pr.attr<std::int64_t>(pf.get(), "particles", H5T_NATIVE_INT64);
+        if (n != counts[std::size_t(k)]) pr.fail("its particle count differs from the manifest's");
         if (H5Lexists(pf.get(), "particles", H5P_DEFAULT) <= 0) pr.fail("group 'particles' is missing");
         Handle g(pr.check_id(H5Gopen2(pf.get(), "particles", H5P_DEFAULT), "group 'particles' is unreadable"));
-        read_rows(pr, g.get(), counts[std::size_t(k)], lo < hi ? lo - begin : 0, std::max<std::int64_t>(hi - lo, 0));
+        Digest pd;
+        pd.value(k);
+        pd.value(n);
+        pd.text(order);
+        const auto arrays = read_all(pr, g.get(), n, pd);
+        check_digest(pr, pf.get(), pd);
+        if (lo < hi) take_rows(pr, arrays, lo - begin, hi - begin);
+        else take_rows(pr, arrays, 0, 0);
       }
       begin = end;
     }
     if (begin != h.particles) r.fail("the pieces' particle counts do not add up to 'particles'");
-  } else {
-    if (H5Lexists(fid, "particles", H5P_DEFAULT) <= 0) r.fail("group 'particles' is missing");
-    Handle parts(r.check_id(H5Gopen2(fid, "particles", H5P_DEFAULT), "group 'particles' is unreadable"));
-    read_rows(r, parts.get(), h.particles, c.first_row, c.rows);
+    return c;
   }
+  if (h.format_version > kCheckpointFormatVersion)
+    r.fail("format_version " + std::to_string(h.format_version) + " without the attribute 'pieces'");
+  if (H5Lexists(fid, "particles", H5P_DEFAULT) <= 0) r.fail("group 'particles' is missing");
+  Handle parts_group(r.check_id(H5Gopen2(fid, "particles", H5P_DEFAULT), "group 'particles' is unreadable"));
+  const auto arrays = read_all(r, parts_group.get(), h.particles, digest);
+  // the digest over everything read must match the one written; format 2 on it is required (format 1
+  // files were written before it existed)
+  if (h.format_version >= 2 || H5Aexists(fid, "content_digest") > 0) check_digest(r, fid, digest);
+  take_rows(r, arrays, c.first_row, c.first_row + c.rows);
   return c;
 }
 

@@ -16,13 +16,15 @@
 
 namespace varsph::io {
 
-// Bumped whenever the layout changes; a file with a newer version is refused.
-constexpr int kCheckpointFormatVersion = 1;
+// Bumped whenever the layout changes; a file with a newer version is refused. 2: the root attribute
+// content_digest (format 1 files, without it, are still read).
+constexpr int kCheckpointFormatVersion = 2;
 // A checkpoint in pieces (one per rank of a distributed run): DIR/step_N.h5 is the manifest (the header
-// and the particle count of each piece), DIR/step_N/piece_R.h5 hold the particles of rank R. Readers
-// see one checkpoint whose rows are the pieces' particles in piece order, whatever number of ranks
-// reads it. Older programs refuse it (version 2) instead of misreading it.
-constexpr int kCheckpointPiecesFormatVersion = 2;
+// and the particle count of each piece, with a digest over them), DIR/step_N/piece_R.h5 hold the
+// particles of rank R (each with its own content_digest). Readers see one checkpoint whose rows are the
+// pieces' particles in piece order, whatever number of ranks reads it. Older programs refuse it
+// (version 3) instead of misreading it.
+constexpr int kCheckpointPiecesFormatVersion = 3;
 
 struct CheckpointHeader {
   int format_version = kCheckpointFormatVersion;

@@ -9,6 +9,8 @@ namespace varsph::io {
 
 struct DeviationRow {
   double time = 0, d_max = 0, d_mean = 0, d_rms = 0;
+  long matched = 0;          // fluid particles in both frames (the deviation is over these)
+  long only_a = 0, only_b = 0;  // fluid particles in one frame only (removed by the other run's health rules)
 };
 
 struct CompareOptions {
@@ -18,9 +20,11 @@ struct CompareOptions {
   double time_tolerance = 1e-9;        // [s]
 };
 
-// Writes DIR/deviation.csv (time,D_max,D_mean,D_rms) and DIR/deviation.pvd with frames carrying
-// `deviation` (x_A - x_B, 3 components) and `deviation_magnitude` at run A's fluid positions.
-// InputError (exit 2) when the runs cannot be matched: different fluid particle sets, no common times.
+// Writes DIR/deviation.csv (time,D_max,D_mean,D_rms,matched,only_a,only_b) and DIR/deviation.pvd with
+// frames carrying `deviation` (x_A - x_B, 3 components) and `deviation_magnitude` at run A's fluid
+// positions of the particles both frames hold. Particles one run removed (health.*) are left out and
+// counted per frame. InputError (exit 2) when the runs cannot be matched: no common times, or other
+// fluid particle sets at the first common time.
 std::vector<DeviationRow> compare_runs(const CompareOptions& o);
 
 }  // namespace varsph::io

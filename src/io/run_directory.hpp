@@ -1,6 +1,6 @@
 #pragma once
-// The run directory of CONTRACT.md: NAME.pvd, frames/, diagnostics.csv, probes.csv, checkpoints/,
-// run.json, post/.
+// The run directory of CONTRACT.md: NAME.pvd, frames/, diagnostics.csv, probes.csv, removed.csv,
+// checkpoints/, run.json, post/.
 #include <filesystem>
 #include <string>
 
@@ -20,6 +20,7 @@ struct RunDirectory {
   void remove_frame(long index) const;                    // the frame and its pieces
   std::filesystem::path diagnostics() const { return root / "diagnostics.csv"; }
   std::filesystem::path probes() const { return root / "probes.csv"; }
+  std::filesystem::path removed() const { return root / "removed.csv"; }  // particles removed by health.*
   std::filesystem::path checkpoints() const { return root / "checkpoints"; }
   std::filesystem::path run_json() const { return root / "run.json"; }
   std::filesystem::path post() const { return root / "post"; }

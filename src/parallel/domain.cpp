@@ -94,6 +94,14 @@ void Domain<D>::adopt(ParticleStore& store, std::int64_t first_row) {
 }
 
 template <int D>
+void Domain<D>::compact_owned(ParticleStore& store, std::span<const std::uint32_t> kept) {
+  if (!kept.empty() && kept.back() >= owned_) throw std::logic_error("Domain::compact_owned: not an owned row");
+  store.compact(kept);
+  owned_ = kept.size();
+  ghosts_ = 0;
+}
+
+template <int D>
 typename Domain<D>::Coord Domain<D>::cell_of(const Vec<D>& x) const {
   Coord c;
   for (int a = 0; a < D; ++a) {

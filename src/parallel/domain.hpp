@@ -80,6 +80,9 @@ class Domain {
   // tags (construction: rows in id order; restart: rows of the checkpoint). The store must hold
   // exactly those n rows; the next rebin() partitions from scratch.
   void adopt(ParticleStore& store, std::int64_t first_row);
+  // Keeps the owned rows `kept` (strictly ascending; their order tags stay) and drops every ghost: particle
+  // removal (health.*). The caller then calls rebin() on every rank, which rebuilds the ghosts.
+  void compact_owned(ParticleStore& store, std::span<const std::uint32_t> kept);
 
   // Collective. Wraps periodic positions (and the position-like fields), migrates, orders, exchanges
   // ghosts and writes the grid's blocks and ranges. `grid` must be a configured uniform grid over the

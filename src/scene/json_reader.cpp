@@ -1,11 +1,38 @@
 #include "scene/json_reader.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
 #include "core/errors.hpp"
 
 namespace varsph::scene {
+
+namespace {
+
+// Deepest nesting of arrays/objects in a JSON text (strings skipped). Scenes nest a few levels; a
+// hostile file nested 10^5 deep would overflow the stack of every recursive walk over the tree.
+int nesting_depth(const std::string& text) {
+  int depth = 0, deepest = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
+}
+constexpr int kMaxDepth = 64;
+
+}  // namespace
 
 json::json_pointer pointer_of(const std::string& dotted) {
   std::string p;
@@ -39,7 +66,8 @@ void JsonReader::fail(const std::string& path, const std::string& expected) cons
   throw InputError(file_ + ": key '" + path + "': expected " + expected);
 }
 void JsonReader::fail_got(const std::string& path, const std::string& expected, const json& got) const {
-  throw InputError(file_ + ": key '" + path + "': expected " + expected + ", got " + got.dump());
+  throw InputError(file_ + ": key '" + path + "': expected " + expected + ", got " +
+                   got.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
 double JsonReader::number(const std::string& path, std::optional<double> def, double lo, double hi,
@@ -185,7 +213,7 @@ void walk(const json& node, const std::string& path, std::vector<std::string>& o
       walk(it.value(), path.empty() ? it.key() : path + "." + it.key(), out);
   } else if (node.is_array() && !node.empty() && (node[0].is_object())) {
     for (std::size_t i = 0; i < node.size(); ++i) walk(node[i], path + "." + std::to_string(i), out);
-  } else {
+  } else if (!node.is_null()) {  // null is the same as absent (`--set physics.xsph=null` removes a term)
     out.push_back(path);
   }
 }
@@ -213,6 +241,9 @@ json read_json_file(const std::filesystem::path& file) {
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();
+  if (nesting_depth(text) > kMaxDepth)
+    throw InputError(file.string() + ": JSON nested deeper than " + std::to_string(kMaxDepth) +
+                     " levels; expected a scene (a few levels of objects and arrays)");
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
@@ -226,6 +257,8 @@ json read_json_file(const std::filesystem::path& file) {
     const auto pos = msg.find("syntax error");
     throw InputError(file.string() + ":" + std::to_string(line) + ":" + std::to_string(col) +
                      ": JSON " + (pos != std::string::npos ? msg.substr(pos) : msg));
+  } catch (const json::exception& e) {  // e.g. out_of_range: "number overflow parsing '1e400'"
+    throw InputError(file.string() + ": JSON " + e.what() + "; expected numbers within +-1.8e308");
   }
 }
 
@@ -235,17 +268,27 @@ void apply_override(json& root, const std::string& assignment, const std::string
     throw InputError("--set '" + assignment + "': expected KEY=VALUE (e.g. integrator.alpha=0.5)");
   const std::string key = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
+  if (nesting_depth(text) > kMaxDepth)
+    throw InputError("--set '" + key + "': VALUE nested deeper than " + std::to_string(kMaxDepth) + " levels");
   json value;
   try {
     value = json::parse(text);
-  } catch (const json::parse_error&) {
-    value = text;  // not valid JSON: taken as a string
+  } catch (const json::exception&) {
+    value = text;  // not valid JSON (or a number out of range): taken as a string
+    try {
+      (void)value.dump();  // every later dump (messages, run.json, checkpoints) needs valid UTF-8
+    } catch (const json::exception&) {
+      throw InputError(file + ": --set " + key + ": VALUE is neither JSON nor valid UTF-8 text");
+    }
   }
   json* node = &root;
   std::stringstream ss(key);
   std::string part;
   std::vector<std::string> parts;
   while (std::getline(ss, part, '.')) parts.push_back(part);
+  if (parts.size() > std::size_t(kMaxDepth))
+    throw InputError(file + ": --set " + key.substr(0, 80) + "...: more than " + std::to_string(kMaxDepth) +
+                     " levels of keys");
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const std::string& p = parts[k];
     const bool last = k + 1 == parts.size();

@@ -4,6 +4,8 @@
 
 #include "core/errors.hpp"
 #include "scene/json_reader.hpp"
+#include "scene/parse_health.hpp"
+#include "scene/sanity.hpp"
 #include "scene/scene.hpp"
 
 namespace varsph::scene {
@@ -113,6 +115,8 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.neighbor_search = r.choice("domain.neighbor_search", "cell", {"cell", "hash"});
 
   s.spacing = r.positive("particles.spacing", std::nullopt, "particle spacing dx [m]");
+  // read by sim/particle_budget.cpp from the resolved scene
+  r.number("particles.max_count", 1e7, 1, 1e12, "largest number of particles the bodies may produce (estimated before sampling)");
   s.min_boundary_distance =
       s.spacing * r.number("particles.min_boundary_distance", 0.5, 0, 10, "fluid-boundary clearance in units of dx");
 
@@ -318,7 +322,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
                             "simulated seconds between probes.csv rows (0 = every step)");
   s.probes = r.subtree("probes", json::array());
   if (!s.probes.is_array()) r.fail_got("probes", "a list of probes", s.probes);
-  s.max_density_error = r.number("health.max_density_error", 0.5, 1e-6, 100, "largest |rho/rho0 - 1|");
+  s.health = parse_health(r);
   s.log_every_steps = int(r.integer("log.every_steps", 0, 0, 1000000000));
   s.rebalance_threshold = r.number("parallel.rebalance_threshold", 1.15, 1.0, 1e6,
                                    "slowest rank's busy time over the mean that triggers a repartition");
@@ -329,6 +333,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
 
   r.check_unknown();
   s.resolved = r.resolved();
+  (void)check_sanity(s);  // errors stop here; the commands ask again for the warnings
   return s;
 }
 

@@ -30,6 +30,18 @@ struct BodySpec {
   nlohmann::json motion;                  // boundary: prescribed motion (sim/boundary_motion.hpp), null if fixed
 };
 
+// health.* (sim/health.hpp, docs/scene.md "Health"): what happens to a fluid particle that leaves the
+// states the weakly-compressible model describes, and which events are a blow-up (exit 3).
+struct HealthSpec {
+  std::string on_violation = "remove";  // "remove" (counted) | "stop" (exit 3, the strict behaviour)
+  double max_density_error = 0.3;       // |rho/rho0 - 1| bound (DualSPHysics RhopOut default 700-1300 kg/m^3)
+  double max_mach = 1.0;                // |v| / c0 bound
+  double max_removed_fraction = 0.01;   // of the initial fluid particles, within removal_window steps
+  long removal_window = 20;             // [steps]
+  double max_removed_total = 0.05;      // of the initial fluid particles, over the whole run
+  double max_energy_growth = 0.1;       // of the energy scale (sim/health.hpp); 0 = off
+};
+
 struct Scene {
   std::filesystem::path file;
   nlohmann::json resolved;  // every parameter with its value (defaults filled in)
@@ -113,7 +125,7 @@ struct Scene {
   long checkpoint_every_steps = 0;  // steps between checkpoints, 0 = off
   double probes_every = 0;      // [s] simulated between probes.csv rows (output.probes_every)
   nlohmann::json probes;        // list, validated by the probes module
-  double max_density_error = 0.5;  // health: |rho/rho0 - 1| beyond this stops the run (exit 3)
+  HealthSpec health;            // health.*
   int log_every_steps = 0;
 
   // --- time integrators and kernel corrections (docs/integrators.md) ---

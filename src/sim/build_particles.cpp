@@ -8,6 +8,7 @@
 #include "core/errors.hpp"
 #include "neighbors/neighbor_grid.hpp"
 #include "sim/mesh_bodies.hpp"
+#include "sim/particle_budget.hpp"
 
 namespace varsph {
 namespace {
@@ -99,6 +100,7 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
   const double cell_volume = std::pow(dx, D);
   const Vec<D> g = to_vec<D>(s.gravity);
   const double gmag = double(g.norm());
+  check_particle_budget(s);  // before any allocation: estimates from sizes and dx
 
   for (std::size_t bi = 0; bi < s.bodies.size(); ++bi) {
     const scene::BodySpec& b = s.bodies[bi];
@@ -178,9 +180,11 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
     } else if (b.shape == "points") {
       for (auto& q : b.points) pts.push_back(to_vec<D>(q));
     } else if (b.shape == "mesh") {
-      sample_mesh_body<D>(s, bi, pts, normals, &dists);
+      // the geometry module checks its own estimate (area or volume / dx^d) against what is left
+      sample_mesh_body<D>(s, bi, max_particles(s) - double(out.x.size()), pts, normals, &dists);
     }
     if (pts.empty()) throw InputError(where + ": the body produced no particles (is it smaller than the spacing?)");
+    check_particle_count(s, bi, double(out.x.size() + pts.size()));
 
     for (std::size_t k = 0; k < pts.size(); ++k) {
       const Vec<D>& p = pts[k];

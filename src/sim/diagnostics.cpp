@@ -84,7 +84,7 @@ std::string check_health(const Simulation<D>& sim) {
     bool bad = !x.allFinite() || !f.v[i].allFinite() || !std::isfinite(double(f.rho[i]));
     for (int a = 0; a < D && !bad; ++a)
       bad = !s.periodic[a] && (double(x[a]) < s.domain_min[a] || double(x[a]) > s.domain_max[a]);
-    bad = bad || std::abs(double(f.rho[i]) / s.rho0 - 1.0) > s.max_density_error;
+    bad = bad || std::abs(double(f.rho[i]) / s.rho0 - 1.0) > s.health.max_density_error;
     if (bad && i < first_bad) first_bad = i;
   }
   if (first_bad == n) return {};
@@ -103,7 +103,7 @@ std::string check_health(const Simulation<D>& sim) {
     }
   const double err = std::abs(double(f.rho[i]) / s.rho0 - 1.0);
   msg << "particle id " << f.id[i] << " has density " << double(f.rho[i]) << " (|rho/rho0 - 1| = " << err
-      << " > health.max_density_error = " << s.max_density_error << ")";
+      << " > health.max_density_error = " << s.health.max_density_error << ")";
   return msg.str();
 }
 

@@ -24,8 +24,9 @@ Diagnostics compute_diagnostics(const Simulation<D>& sim);
 // Tait internal energy per unit mass, pi(rho) = (B / rho0) [ (rho/rho0)^6 / 6 + rho0 / rho - 7/6 ].
 double tait_internal_energy(double rho, double rho0, double B);
 
-// First problem with the state, or an empty string: NaN, a particle outside the domain, or a density
-// error beyond the scene's bound. Names the particle id and the value.
+// First problem with the state, or an empty string: NaN, a fluid particle outside the domain, or a
+// density error beyond health.max_density_error. Names the particle id and the value. The strict check
+// tests use on runs that must stay clean; `varsph run` applies the health rules instead (sim/health.hpp).
 template <int D>
 std::string check_health(const Simulation<D>& sim);
 

@@ -5,6 +5,7 @@
 // ({"point", "normal"}: 2D cut of a 3D mesh), clip_min/clip_max (volume fill), allow_self_intersections.
 #include "sim/mesh_bodies.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -26,7 +27,8 @@ namespace {
 using nlohmann::json;
 
 [[noreturn]] void bad(const std::string& where, const std::string& key, const std::string& expected, const json& got) {
-  throw InputError(where + "." + key + ": expected " + expected + ", got " + got.dump());
+  throw InputError(where + "." + key + ": expected " + expected + ", got " +
+                   got.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
 Eigen::Vector3d vec3(const json& j, const std::string& where, const std::string& key, int dim) {
@@ -49,12 +51,16 @@ Eigen::Matrix4d transform_of(const json& t, const std::string& where, int dim) {
   if (t.contains("matrix")) {
     const json& m = t["matrix"];
     if (!m.is_array() || m.size() != 16) bad(where, "transform.matrix", "16 numbers (row-major 4 x 4)", m);
-    for (int k = 0; k < 16; ++k) M(k / 4, k % 4) = m[std::size_t(k)].get<double>();
+    for (int k = 0; k < 16; ++k) {
+      if (!m[std::size_t(k)].is_number()) bad(where, "transform.matrix", "16 numbers (row-major 4 x 4)", m);
+      M(k / 4, k % 4) = m[std::size_t(k)].get<double>();
+    }
     return M;
   }
   Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
   if (t.contains("scale")) {
     if (t["scale"].is_number()) S *= t["scale"].get<double>();
+    else if (!t["scale"].is_array()) bad(where, "transform.scale", "a positive number or an array of 3", t["scale"]);
     else S = vec3(t["scale"], where, "transform.scale", dim).asDiagonal();
     if (!(S.diagonal().array() > 0).all()) bad(where, "transform.scale", "positive factors", t["scale"]);
   }
@@ -73,8 +79,9 @@ Eigen::Matrix4d transform_of(const json& t, const std::string& where, int dim) {
 }  // namespace
 
 template <int D>
-void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>& positions,
-                      std::vector<Vec<D>>& normals, std::vector<Real>* interface_distance) {
+void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_particles,
+                      std::vector<Vec<D>>& positions, std::vector<Vec<D>>& normals,
+                      std::vector<Real>* interface_distance) {
   const scene::BodySpec& b = s.bodies[index];
   const std::string where = s.file.string() + ": bodies." + std::to_string(index);
   const json& m = b.mesh;
@@ -83,6 +90,10 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<
   req.mesh = s.file.parent_path() / m["mesh"].get<std::string>();
   req.dimension = D;
   req.spacing = s.spacing;
+  for (const char* key : {"fill", "layer_side"})
+    if (m.contains(key) && !m[key].is_string()) bad(where, key, "a string", m[key]);
+  if (m.contains("allow_self_intersections") && !m["allow_self_intersections"].is_boolean())
+    bad(where, "allow_self_intersections", "true or false", m["allow_self_intersections"]);
   req.fill = m.value("fill", b.kind == "fluid" ? std::string("volume") : std::string("surface"));
   if (req.fill != "surface" && req.fill != "volume") bad(where, "fill", "\"surface\" or \"volume\"", m["fill"]);
   req.layers = b.kind == "boundary" ? b.layers : 1;
@@ -106,6 +117,7 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<
   req.domain_min = Eigen::Map<const Eigen::VectorXd>(s.domain_min.data(), D);
   req.domain_max = Eigen::Map<const Eigen::VectorXd>(s.domain_max.data(), D);
   req.allow_self_intersections = m.value("allow_self_intersections", false);
+  req.max_particles = std::max(1.0, max_particles);
 
   geometry::SampledBody out;
   try {
@@ -133,8 +145,8 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<
 #else
 
 template <int D>
-void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>&, std::vector<Vec<D>>&,
-                      std::vector<Real>*) {
+void sample_mesh_body(const scene::Scene& s, std::size_t index, double, std::vector<Vec<D>>&,
+                      std::vector<Vec<D>>&, std::vector<Real>*) {
   throw InputError(s.file.string() + ": bodies." + std::to_string(index) +
                    ": mesh bodies need the geometry module, which this build does not include "
                    "(configure with -DVARSPH_BUILD_GEOMETRY=ON)");
@@ -142,9 +154,9 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<
 
 #endif
 
-template void sample_mesh_body<2>(const scene::Scene&, std::size_t, std::vector<Vec<2>>&, std::vector<Vec<2>>&,
-                                  std::vector<Real>*);
-template void sample_mesh_body<3>(const scene::Scene&, std::size_t, std::vector<Vec<3>>&, std::vector<Vec<3>>&,
-                                  std::vector<Real>*);
+template void sample_mesh_body<2>(const scene::Scene&, std::size_t, double, std::vector<Vec<2>>&,
+                                  std::vector<Vec<2>>&, std::vector<Real>*);
+template void sample_mesh_body<3>(const scene::Scene&, std::size_t, double, std::vector<Vec<3>>&,
+                                  std::vector<Vec<3>>&, std::vector<Real>*);
 
 }  // namespace varsph

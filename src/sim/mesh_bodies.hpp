@@ -8,9 +8,11 @@
 namespace varsph {
 
 // Appends the particles (and, for boundary bodies, the normals into the fluid and, when asked, each
-// particle's distance to the fluid-wall interface, (layer + 1/2) dx) of scene body `index`.
+// particle's distance to the fluid-wall interface, (layer + 1/2) dx) of scene body `index`; a mesh
+// estimated to produce more than `max_particles` is refused before sampling (InputError naming the number).
 template <int D>
-void sample_mesh_body(const scene::Scene& s, std::size_t index, std::vector<Vec<D>>& positions,
-                      std::vector<Vec<D>>& normals, std::vector<Real>* interface_distance = nullptr);
+void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_particles,
+                      std::vector<Vec<D>>& positions, std::vector<Vec<D>>& normals,
+                      std::vector<Real>* interface_distance = nullptr);
 
 }  // namespace varsph

@@ -21,10 +21,24 @@ void flatten(const nlohmann::json& j, const std::string& prefix, std::map<std::s
 
 bool starts_with(const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; }
 
+// Boundary particles (kind != 0) in a checkpoint's `kind` array; InputError when it is missing or malformed.
+std::size_t checkpoint_boundary_count(const io::Checkpoint& c, std::size_t particles, const std::string& where) {
+  const io::CheckpointArray* k = c.find("kind");
+  if (!k || k->type != ScalarType::Int32 || k->components != 1 || k->bytes.size() != particles * sizeof(std::int32_t))
+    throw InputError(where + "particle field 'kind' is missing or has another type or shape");
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < particles; ++i) {
+    std::int32_t v;
+    std::memcpy(&v, k->bytes.data() + i * sizeof v, sizeof v);
+    n += v != 0;
+  }
+  return n;
+}
+
 }  // namespace
 
 bool restart_may_change(const std::string& k) {
-  return k == "time.end" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
+  return k == "time.end" || k == "particles.max_count" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
          starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
          starts_with(k, "log.") || k == "parallel" || starts_with(k, "parallel.");
 }
@@ -70,12 +84,21 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
     const std::string was = h.scene.contains(ptr) ? h.scene.at(ptr).dump() : "(absent)";
     const std::string now = sim.scene().resolved.contains(ptr) ? sim.scene().resolved.at(ptr).dump() : "(absent)";
     throw InputError(where + "the scene's physics differs from the checkpoint's at key '" + k + "' (checkpoint: " +
-                     was + ", scene: " + now + "); only time.end, output.*, checkpoint.*, probes and log.* may "
+                     was + ", scene: " + now + "); only time.end, output.*, checkpoint.*, probes, log.* and particles.max_count may "
                      "change on restart");
   }
-  if (const std::int64_t built = sim.global_count(); h.particles != built)
+  // a checkpoint written after fluid particles were removed (health.*) holds fewer fluid particles than
+  // the scene builds; boundary particles are never removed, so their count must match. In a distributed
+  // run this process holds rows [first_row, first_row + rows) of the checkpoint; the counts are global.
+  if (const std::int64_t built = sim.global_count(); h.particles > built)
     throw InputError(where + "checkpoint has " + std::to_string(h.particles) + " particles, the scene builds " +
                      std::to_string(built));
+  const std::size_t ckpt_boundary =
+      std::size_t(sim.global_sum(double(checkpoint_boundary_count(c, std::size_t(c.rows), where))));
+  if (ckpt_boundary != sim.count(1))
+    throw InputError(where + "checkpoint has " + std::to_string(ckpt_boundary) + " boundary particles, the scene builds " +
+                     std::to_string(sim.count(1)) + " (" + std::to_string(h.particles) + " particles in all, the scene " +
+                     std::to_string(sim.global_count()) + ")");
   if (h.integrator != sim.integrator().name())
     throw InputError(where + "checkpoint was written by the '" + h.integrator + "' integrator, the scene uses '" +
                      sim.integrator().name() + "'");
@@ -96,6 +119,7 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
     const io::CheckpointArray* a = c.find(f->name());
     if (!a->bytes.empty()) std::memcpy(f->raw(), a->bytes.data(), a->bytes.size());
   }
+  sim.recount_kinds();
   sim.set_clock(h.time, long(h.step));
   // the arrays are in the order of the checkpointed step's cell sort; sorting again is stable, so this
   // rebuilds the neighbour grid for them without changing the order (checked by the restart tests)
@@ -145,7 +169,8 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
 
 template <int D>
 void StateSnapshot<D>::restore(Simulation<D>& sim) const {
-  // a distributed step may have moved particles between ranks: back to the captured rows
+  // particles removed after the capture (health.*) come back with the rest of the state; a distributed
+  // step may have moved particles between ranks: back to the captured rows
   sim.store().resize(stored_);
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
@@ -158,7 +183,10 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
   sim.integrator().restore_state(integrator_state_);
   if (sim.distributed()) {  // owned rows back in place, ghosts and grid rebuilt for them (collective)
     sim.adopt_rows(owned_, 0);
+    sim.recount_kinds();
     sim.rebin();
+  } else {
+    sim.recount_kinds();
   }
 }
 

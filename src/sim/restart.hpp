@@ -37,7 +37,7 @@ template <int D>
 class StateSnapshot {
  public:
   void capture(Simulation<D>& sim, const nlohmann::json& runner_state);
-  // Puts the captured state back into the simulation (same particle count, same fields).
+  // Puts the captured state back into the simulation (same fields; particles removed since come back).
   void restore(Simulation<D>& sim) const;
   bool valid() const { return valid_; }
   const nlohmann::json& runner_state() const { return runner_state_; }

@@ -26,6 +26,7 @@
 #include "sim/build_info.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/frame_export.hpp"
+#include "sim/health.hpp"
 #include "sim/probes.hpp"
 #include "sim/restart.hpp"
 #include "sim/simulation.hpp"
@@ -47,14 +48,21 @@ const std::vector<std::string> kDiagnosticColumns = {
     "frame", "step", "time", "dt", "momentum_x", "momentum_y", "momentum_z", "momentum_Q", "angular_momentum",
     "kinetic_energy", "potential_energy", "internal_energy", "max_speed", "density_error_max", "wall_seconds",
     "fp_iterations_mean", "fp_iterations_max", "fp_residual_max", "fp_contraction_max", "dt_bound",
+    // health.* (sim/health.hpp): fluid particles now, and removed since the start per rule
+    "fluid_particles", "removed_domain", "removed_density", "removed_speed",
+    // slowest rank's busy time over the mean (1 in one process; docs/parallel.md): appended last
     "imbalance"};
+
+const std::vector<std::string> kRemovedColumns = {
+    "time", "step", "id", "rule", "x", "y", "z", "vx", "vy", "vz", "density", "pressure", "fluid_neighbours",
+    "boundary_neighbours"};
 
 template <int D>
 class Runner {
  public:
   Runner(const scene::Scene& s, const RunOptions& o)
       : scene_(s), opt_(o), comm_(o.comm ? o.comm : std::make_shared<parallel::SerialCommunicator>()),
-        root_(comm_->root()), quiet_(o.quiet || !comm_->root()) {}
+        root_(comm_->root()), quiet_(o.quiet || !comm_->root()), health_(s) {}
 
   int run() {
     using clock = std::chrono::steady_clock;
@@ -136,11 +144,12 @@ class Runner {
       accumulate(rep);
       warn_dt_bound(sim.dt(), rep.dt_bound, sim.step());
       last_frame_at_current_ = false;
-      if (const std::string bad = parallel::first_message(*comm_, check_health(sim)); !bad.empty()) {
+      if (const std::string bad = health_.after_step(sim); !bad.empty()) {  // agreed by every rank
         failure = handle_blow_up(sim, bad);
         exit_code = kExitNumerical;
         break;
       }
+      if (!health_.last_removed().empty()) write_removed();
       if (sim.time() >= next_frame_ - 0.5 * sim.dt()) {
         write_frame(sim);
         while (next_frame_ <= sim.time() + 0.5 * sim.dt()) next_frame_ += scene_.output_every;
@@ -192,8 +201,8 @@ class Runner {
       return exit_code;
     }
     if (!quiet_)
-      std::printf("varsph: done: %ld steps in %.2f s (%.1f ns per fluid particle-step); %s\n", steps_, wall,
-                  wall / std::max(particle_steps_, 1.0) * 1e9, dir_.pvd().string().c_str());
+      std::printf("varsph: done: %ld steps in %.2f s (%.1f ns per fluid particle-step); %s%s\n", steps_, wall,
+                  wall / std::max(particle_steps_, 1.0) * 1e9, dir_.pvd().string().c_str(), removal_summary().c_str());
     return kExitOk;
   }
 
@@ -248,12 +257,17 @@ class Runner {
     }
     on_root([&] {  // rank 0 writes the tables
       diag_.open(dir_.diagnostics(), kDiagnosticColumns, keep_up_to);
+      removed_csv_.open(dir_.removed(), kRemovedColumns, keep_up_to);
       if (!probes.empty()) {
         std::vector<std::string> cols = {"time"};
         for (auto& c : probes.columns()) cols.push_back(c);
         probes_csv_.open(dir_.probes(), cols, keep_up_to);
       }
     });
+    if (ckpt && ckpt->header.runner_state.contains("health"))
+      health_.restore_state(ckpt->header.runner_state.at("health"));
+    else
+      health_.start(sim);  // collective in a distributed run
   }
 
   bool in_own_directory() const {
@@ -292,6 +306,7 @@ class Runner {
             {"probes_every", scene_.probes_every},
             {"next_checkpoint", next_checkpoint_},
             {"checkpoint_every", scene_.checkpoint_every},
+            {"health", health_.save_state()},
             {"fp",
              {{"steps", fp_steps_},
               {"iter_sum", fp_iter_sum_},
@@ -356,6 +371,39 @@ class Runner {
            std::to_string(sim.time()) + " s): frame " + last_frame_name_ + ", checkpoint " + cp;
   }
 
+  // --- particles removed by the health rules ------------------------------------------------------
+  // One removed.csv row per particle; the first removal of each rule is also reported on stderr.
+  void write_removed() {  // every rank holds the same list (HealthMonitor gathers it); rank 0 writes
+    on_root([&] { write_removed_rows(); });
+  }
+  void write_removed_rows() {
+    using io::CsvTable;
+    for (const RemovedParticle& p : health_.last_removed()) {
+      removed_csv_.row({CsvTable::num(p.time), CsvTable::num(p.step), CsvTable::num(long(p.id)),
+                        removal_rule_name(p.rule), CsvTable::num(p.x[0]), CsvTable::num(p.x[1]), CsvTable::num(p.x[2]),
+                        CsvTable::num(p.v[0]), CsvTable::num(p.v[1]), CsvTable::num(p.v[2]), CsvTable::num(p.rho),
+                        CsvTable::num(p.p), CsvTable::num(long(p.fluid_neighbours)),
+                        CsvTable::num(long(p.boundary_neighbours))});
+      bool& warned = warned_removal_[std::size_t(p.rule)];
+      if (warned) continue;
+      warned = true;
+      std::fprintf(stderr,
+                   "varsph: warning: step %ld, t = %.6g s: removed fluid particle id %lld (health rule '%s': density "
+                   "%.6g kg/m^3, speed %.4g m/s, %d fluid neighbours); further removals are counted in "
+                   "diagnostics.csv and listed in removed.csv\n",
+                   p.step, p.time, static_cast<long long>(p.id), removal_rule_name(p.rule), p.rho,
+                   std::sqrt(p.v[0] * p.v[0] + p.v[1] * p.v[1] + p.v[2] * p.v[2]), p.fluid_neighbours);
+    }
+  }
+
+  std::string removal_summary() const {
+    if (health_.removed_total() == 0) return "";
+    const auto& r = health_.removed();
+    return "; removed " + std::to_string(health_.removed_total()) + " of " + std::to_string(health_.initial_fluid()) +
+           " fluid particles (domain " + std::to_string(r[0]) + ", density " + std::to_string(r[1]) + ", speed " +
+           std::to_string(r[2]) + "; removed.csv)";
+  }
+
   // --- per-frame and per-sample output ------------------------------------------------------------
   void write_probes(const Simulation<D>& sim, Probes<D>& probes) {
     std::vector<std::string> row = {io::CsvTable::num(sim.time())};
@@ -408,6 +456,8 @@ class Runner {
     } else {
       row.insert(row.end(), 5, "");
     }
+    row.push_back(CsvTable::num(long(sim.count(0))));
+    for (const long c : health_.removed()) row.push_back(CsvTable::num(c));
     // slowest rank's busy time over the mean since the previous row (1 in one process; collective)
     row.push_back(CsvTable::num(sim.distributed() ? sim.domain()->imbalance_since_last_report() : 1.0));
     on_root([&] { diag_.row(row); });
@@ -455,6 +505,7 @@ class Runner {
                      {"c0", scene_.c0},          {"c0_rule", scene_.c0_rule},
                      {"B", double(sim.eos().B)}, {"fluid_particles", sim.count(0)},
                      {"boundary_particles", sim.count(1)}};
+    j["health"] = health_.report();
     j["started"] = started_;
     j["status"] = status;
     if (!message.empty()) j["message"] = message;
@@ -482,7 +533,9 @@ class Runner {
   io::RunDirectory dir_;
   std::unique_ptr<io::PvdSeries> pvd_;
   Probes<D>* probes_ = nullptr;  // the run loop's probes (their accumulation goes into checkpoints)
-  io::CsvTable diag_, probes_csv_;
+  io::CsvTable diag_, probes_csv_, removed_csv_;
+  HealthMonitor<D> health_;
+  std::array<bool, kRemovalRules> warned_removal_{};
   double next_frame_ = 0, next_probe_ = 0, next_checkpoint_ = 0;
   long last_checkpoint_step_ = -1, last_frame_step_ = -1;
   std::chrono::steady_clock::time_point last_checkpoint_wall_;

@@ -90,6 +90,12 @@ std::string describe(const scene::Scene& s) {
   } else {
     o << "variational bound  none (alpha = 1 is explicit)\n";
   }
+  const auto& hs = s.health;
+  o << "health             " << (hs.on_violation == "stop" ? "stop (exit 3)" : "remove") << " fluid particles outside "
+    << "the domain, with |rho/rho0 - 1| > " << hs.max_density_error << " or |v| > " << hs.max_mach * s.c0
+    << " m/s; exit 3 on NaN, > " << 100 * hs.max_removed_fraction << " % removed in " << hs.removal_window
+    << " steps or > " << 100 * hs.max_removed_total << " % in all, energy growth > " << hs.max_energy_growth
+    << " x scale (docs/scene.md \"Health\")\n";
   o << "time.end           " << s.t_end << " s, frames every " << s.output_every << " s\n";
   return o.str();
 }

@@ -221,6 +221,48 @@ std::size_t Simulation<D>::count(std::int32_t kind) const {
 }
 
 template <int D>
+void Simulation<D>::recount_kinds() {
+  n_fluid_ = n_boundary_ = 0;
+  for (std::size_t i = 0; i < size(); ++i) (f_.kind[i] == 0 ? n_fluid_ : n_boundary_) += 1;
+  if (domain_) {  // counts of the whole run on every rank (collective)
+    std::int64_t c[2] = {std::int64_t(n_fluid_), std::int64_t(n_boundary_)};
+    comm_->sum(std::span<std::int64_t>(c, 2));
+    n_fluid_ = std::size_t(c[0]);
+    n_boundary_ = std::size_t(c[1]);
+  }
+}
+
+template <int D>
+void Simulation<D>::remove_particles(std::span<const std::uint32_t> indices) {
+  if (indices.empty() && !domain_) return;
+  const std::size_t n = size();  // owned particles (ghosts are rebuilt, never removed)
+  kept_.clear();
+  kept_.reserve(n - indices.size());
+  std::size_t r = 0;
+  for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
+    if (r < indices.size() && indices[r] == i) {
+      ++r;
+      continue;
+    }
+    kept_.push_back(i);
+  }
+  if (r != indices.size()) throw std::logic_error("Simulation::remove_particles: indices not ascending or out of range");
+  if (domain_) {  // collective: the survivors keep their order tags, rebin() rebuilds the ghosts and grid
+    domain_->compact_owned(store_, kept_);
+    recount_kinds();
+    domain_->rebin(store_, grid_, position_like_);
+    if (wall_v_) update_pressure();
+    return;
+  }
+  store_.compact(kept_);
+  recount_kinds();
+  // the survivors keep their cell order, so this stable sort only rebuilds the blocks and ranges
+  grid_.build(std::span<const Vec<D>>(f_.x.data), perm_);
+  store_.permute(perm_);
+  if (wall_v_) update_pressure();  // dummy walls: extrapolated from the fluid that is left
+}
+
+template <int D>
 void Simulation<D>::set_skin(Real skin) {
   skin_ = skin;
   typename NeighborGrid<D>::Options o;

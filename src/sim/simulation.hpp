@@ -3,6 +3,7 @@
 // passes and the integrator. Nothing global: several simulations can live in one process.
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -152,6 +153,18 @@ class Simulation {
   // The store now holds `n` particles that are rows [first_row, first_row + n) of a checkpoint (or of a
   // captured state) and no ghosts; the next sort_and_bin() partitions them anew. Restart and blow-up.
   void adopt_rows(std::size_t n, std::int64_t first_row);
+  // --- particle removal (sim/health.*; a store-level operation a decomposition layer can call too) ----
+  // Removes the particles at the given storage indices (strictly ascending) from every registered field
+  // (ParticleStore::compact keeps the survivors' order and `id`), recounts the kinds and rebuilds the
+  // neighbour grid for the survivors without moving walls; dummy walls re-extrapolate their pressure from
+  // the fluid that is left. Integrator state lives in registered fields, so it stays consistent.
+  // Distributed: owned indices; collective (every rank calls it when any rank removes, maybe with none).
+  void remove_particles(std::span<const std::uint32_t> indices);
+  // Resizes the store to n particles (restart from a checkpoint written after removals: the arrays are
+  // copied in afterwards) and recounts the particle kinds from the `kind` field.
+  void resize_particles(std::size_t n) { store_.resize(n); }
+  // Counts of the whole run (owned particles summed over ranks: collective in a distributed run).
+  void recount_kinds();
 
  private:
   scene::Scene scene_;
@@ -169,6 +182,7 @@ class Simulation {
   Field<Vec<D>>* wall_acc_ = nullptr;       // extrapolated walls with prescribed motion: a_w [m/s^2]
   Field<Vec<D>>* xsph_ = nullptr;    // XSPH correction
   std::vector<std::uint32_t> perm_;
+  std::vector<std::uint32_t> kept_;  // particle removal: indices of the survivors
   std::vector<Real> rho_scratch_;  // Shepard re-initialisation output (sized once)
   std::vector<Vec<D>> shift_scratch_;  // shifting displacements (sized once; consumed within the step)
   std::size_t n_fluid_ = 0, n_boundary_ = 0;

@@ -154,7 +154,7 @@ TEST(BadInput, SelfIntersectingMeshRejectedForVolumeFill) {
   EXPECT_GT(b.positions.rows(), 0);
 }
 
-TEST(BadInput, MeshFarLargerThanDomainWarns) {
+TEST(BadInput, MeshFarLargerThanDomainIsRefusedBeforeSampling) {
   const auto dir = vt::temp_dir();
   vt::MatrixXd V; vt::MatrixXi F;
   vt::cube(1000.0, V, F);  // millimetres
@@ -163,12 +163,21 @@ TEST(BadInput, MeshFarLargerThanDomainWarns) {
   r.spacing = 100;
   r.domain_min = Eigen::Vector3d(0, 0, 0);
   r.domain_max = Eigen::Vector3d(2, 2, 2);
-  SampledBody b = sample_body(r);
-  EXPECT_TRUE(vt::has_note(b.notes, "mesh bounding box size (1000, 1000, 1000) m is more than 10 times the domain size (2, 2, 2) m"));
+  const std::string m = error_of(r);
+  EXPECT_NE(m.find("mesh bounding box (0, 0, 0) .. (1000, 1000, 1000) m (after the transform) lies outside the "
+                   "domain (0, 0, 0) .. (2, 2, 2) m by up to 998"), std::string::npos) << m;
+  EXPECT_NE(m.find("millimetres"), std::string::npos) << m;
+  // sticking out by less than one spacing is accepted (a tank wall on the domain's edge)
+  r.spacing = 0.1;
+  r.transform.topLeftCorner<3, 3>() *= 0.00205;  // 2.05 m cube in a 2 m domain
+  EXPECT_EQ(error_of(r), "");
+  r.transform.topLeftCorner<3, 3>() *= 1.1;  // 2.255 m: 0.255 m out
+  EXPECT_NE(error_of(r).find("lies outside the domain"), std::string::npos);
+  r.transform = Eigen::Matrix4d::Identity();
   // with the right scale no warning
   r.transform.topLeftCorner<3, 3>() *= 0.001;
   r.spacing = 0.1;
-  b = sample_body(r);
+  const SampledBody b = sample_body(r);
   EXPECT_TRUE(b.notes.empty());
   EXPECT_EQ(b.positions.rows(), 600);
 }

@@ -32,9 +32,9 @@ TEST(Compare, DeviationOfTwoRunsMatchedByTimeAndId) {
   const auto r = test::run_command(exe() + " compare " + a.string() + " " + b.string() + " -o " + (dir / "out").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string csv = test::read_text(dir / "out" / "deviation.csv");
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "time,D_max,D_mean,D_rms");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "time,D_max,D_mean,D_rms,matched,only_a,only_b");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4) << csv;  // header + t = 0, 0.005, 0.01
-  EXPECT_NE(csv.find("\n0,0,0,0\n"), std::string::npos) << csv;   // same initial state
+  EXPECT_NE(csv.find("\n0,0,0,0,256,0,0\n"), std::string::npos) << csv;  // same initial state, 16 x 16 matched
   EXPECT_TRUE(std::filesystem::exists(dir / "out" / "deviation.pvd"));
   const std::string vtu = test::read_text(dir / "out" / "frames" / "deviation_000001.vtu");
   EXPECT_NE(vtu.find("Name=\"deviation\""), std::string::npos);

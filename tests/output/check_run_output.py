@@ -61,12 +61,21 @@ with open(os.path.join(run, "diagnostics.csv")) as f:
     rows = list(csv.reader(f))
 expected = ("frame,step,time,dt,momentum_x,momentum_y,momentum_z,momentum_Q,angular_momentum,kinetic_energy,"
             "potential_energy,internal_energy,max_speed,density_error_max,wall_seconds,fp_iterations_mean,"
-            "fp_iterations_max,fp_residual_max,fp_contraction_max,dt_bound,imbalance").split(",")
+            "fp_iterations_max,fp_residual_max,fp_contraction_max,dt_bound,"
+            "fluid_particles,removed_domain,removed_density,removed_speed,imbalance").split(",")
 check(rows[0] == expected, "diagnostics.csv header %s" % rows[0])
 check(len(rows) - 1 == n_frames, "diagnostics.csv has %d rows, expected %d" % (len(rows) - 1, n_frames))
+check(all(int(r[20]) == n_fluid and r[21:24] == ["0", "0", "0"] for r in rows[1:]),
+      "diagnostics.csv: all fluid particles kept, nothing removed")
+with open(os.path.join(run, "removed.csv")) as f:
+    removed_rows = list(csv.reader(f))
+check(removed_rows == [("time,step,id,rule,x,y,z,vx,vy,vz,density,pressure,fluid_neighbours,"
+                        "boundary_neighbours").split(",")], "removed.csv holds only its header")
 info = json.load(open(os.path.join(run, "run.json")))
 check(info.get("status") == "completed", "run.json status %s" % info.get("status"))
 check(info["resolved"]["fluid_particles"] == n_fluid, "run.json fluid count")
+check(info["health"]["removed_total"] == 0 and info["health"]["fluid_particles_initial"] == n_fluid,
+      "run.json health block %s" % info.get("health"))
 
 if failures:
     print("FAILED:\n  " + "\n  ".join(failures))

@@ -50,9 +50,15 @@ struct BodyRequest {
   Eigen::MatrixXd exclusion_points;
   double exclusion_distance = 0.0;
 
-  // optional simulation domain (#dim each; empty = unknown): a mesh whose bounding box sticks out of
-  // it by more than one spacing, or is > 10x its size, gives a warning in `notes` (wrong units?).
+  // optional simulation domain (#dim each; empty = unknown): a mesh whose bounding box (after the
+  // transform; for a volume fill within the clip box) sticks out of it by more than one spacing is a
+  // GeometryError before sampling (wrong units or transform?).
   Eigen::VectorXd domain_min, domain_max;
+
+  // largest number of particles this body may produce (0 = no limit). Checked before sampling against
+  // the estimate surface measure / dx^(dim-1) x layers (surface fill) or enclosed measure / dx^dim
+  // (volume fill, within the lattice box); a larger estimate is a GeometryError naming the number.
+  double max_particles = 0;
 
   // volume fill of a self-intersecting mesh is refused unless this is true; then the inside test
   // uses the ray-parity answer of CGAL::Side_of_triangle_mesh and a note says so.

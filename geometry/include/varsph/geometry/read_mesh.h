@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,9 +26,12 @@ struct TriangleMesh {
 //   check_self_intersection  run PMP::does_self_intersect (O(#F log #F))
 // Outputs:
 //   notes       repairs done
+//   check_soup_area  optional: called with the area [m^2] of the polygons as read (after the transform,
+//               before any repair, which costs O(#F log #F)); it may throw to refuse the file early
 // Throws GeometryError on a missing, unreadable, empty or unsupported file, or one that is not a
 // polygon mesh after repair.
 TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d& transform,
-                       bool check_self_intersection, std::vector<std::string>& notes);
+                       bool check_self_intersection, std::vector<std::string>& notes,
+                       const std::function<void(double)>& check_soup_area = nullptr);
 
 }  // namespace varsph::geometry
