@@ -154,6 +154,9 @@ class Runner {
         write_frame(sim);
         while (next_frame_ <= sim.time() + 0.5 * sim.dt()) next_frame_ += scene_.output_every;
       }
+      // point queries (pressure probes) read ghosts: their density and pressure are the owners' of the
+      // last pass, not of the step's end (one exchange per step, distributed runs with probes only)
+      if (!probes.empty() && sim.distributed()) sim.refresh_halo(sim.current_view());
       if (!probes.empty()) probes.accumulate(sim);  // load probes integrate over their interval
       if (!probes.empty() && sim.time() >= next_probe_ - 0.5 * sim.dt()) {
         write_probes(sim, probes);
