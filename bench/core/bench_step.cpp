@@ -74,16 +74,18 @@ void run_case(const scene::Scene& s, const Case& c, const std::vector<int>& thre
     Simulation<D> sim(s);
     sim.advance();  // warm-up (first sort moves everything)
     double sec = std::numeric_limits<double>::infinity();
+    long iterations = 0;  // fixed-point iterations of an implicit scheme, over all timed steps
     for (int r = 0; r < repeats; ++r) {  // the state advances between repeats: same cost per step
       const auto t0 = std::chrono::steady_clock::now();
-      for (int k = 0; k < c.steps; ++k) sim.advance();
+      for (int k = 0; k < c.steps; ++k) iterations += sim.advance().iterations;
       sec = std::min(sec, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     const double ps = double(c.steps) * double(sim.count(0));
     const auto [nb, all_pairs] = neighbours(sim);
-    std::printf("%-30s %9zu %8zu %3d %7.1f %10.1f %9.3f %9.1f %10.2f %9.1f %9.1f\n", c.name.c_str(), sim.count(0),
-                sim.count(1), threads, nb, sec / ps * 1e9, ps / sec * 1e-6, ps * nb / sec * 1e-6, sec / c.steps * 1e3,
-                peak_rss_mb(), all_pairs * c.steps / sec * 1e-6);
+    std::printf("%-30s %9zu %8zu %3d %7.1f %10.1f %9.3f %9.1f %10.2f %9.1f %9.1f %6s %6.2f\n", c.name.c_str(),
+                sim.count(0), sim.count(1), threads, nb, sec / ps * 1e9, ps / sec * 1e-6, ps * nb / sec * 1e-6,
+                sec / c.steps * 1e3, peak_rss_mb(), all_pairs * c.steps / sec * 1e-6, sim.rates().simd(),
+                double(iterations) / double(repeats * c.steps));
     std::fflush(stdout);
   }
 }
@@ -104,7 +106,9 @@ int main(int argc, char** argv) {
           "bench_step --scene FILE [--set KEY=VALUE]... [--steps N] [--threads 1,2] [--repeats R]\n"
           "--set applies scene overrides to the built-in cases too; --case NAME alone when a case has that name\n"
           "columns: ns per fluid particle-step, fluid particle-steps/s, fluid pairs/s (fluid x mean neighbours),\n"
-          "ms per step, peak RSS (MB), all pairs/s (fluid + dynamic walls, as DualSPHysics counts)\n");
+          "ms per step, peak RSS (MB), all pairs/s (fluid + dynamic walls, as DualSPHysics counts), pair sweep\n"
+          "(scalar, avx2, avx512: VARSPH_SIMD=auto|scalar|avx2|avx512 in the environment picks it), mean\n"
+          "fixed-point iterations per step (variational integrator; 0 for explicit schemes)\n");
       return 0;
     }
     if (!std::strcmp(argv[k], "--quick")) quick = true;
@@ -140,8 +144,8 @@ int main(int argc, char** argv) {
       {"dsph_val_2d_20k_paper_verlet", "dam_break_2d_dsph_val.json", {"integrator.type=\"verlet\""}, quick ? 20 : 200},
   };
   std::printf("# varsph %s (%s), %s build\n", VARSPH_VERSION, VARSPH_REAL_NAME, VARSPH_BUILD_TYPE);
-  std::printf("%-30s %9s %8s %3s %7s %10s %9s %9s %10s %9s %9s\n", "case", "fluid", "boundary", "thr", "neighb",
-              "ns/p-step", "Mp-step/s", "Mpair/s", "ms/step", "peakMB", "Mpair/s*");
+  std::printf("%-30s %9s %8s %3s %7s %10s %9s %9s %10s %9s %9s %6s %6s\n", "case", "fluid", "boundary", "thr",
+              "neighb", "ns/p-step", "Mp-step/s", "Mpair/s", "ms/step", "peakMB", "Mpair/s*", "sweep", "fp_it");
   if (!scene_file.empty()) {
     cases = {{"custom", scene_file, sets, steps > 0 ? steps : 5}};
     only.clear();

@@ -34,7 +34,7 @@ def mpirun_prefix(ranks, bind):
         sys.exit("scaling.py: no mpirun on PATH")
     flags = []
     version = subprocess.run([exe, "--version"], capture_output=True, text=True).stdout
-    if "Open MPI" in version:
+    if "Open MPI" in version or "OpenRTE" in version:  # 4.x prints "mpiexec (OpenRTE) 4.1.4"
         if os.geteuid() == 0:
             flags.append("--allow-run-as-root")
         flags += ["--bind-to", "core", "--map-by", "core"] if bind else ["--oversubscribe", "--bind-to", "none"]

@@ -1,6 +1,7 @@
 #pragma once
 // One structure-of-arrays store for all particles. Every per-particle array is registered by name and
 // type, so sorting, checkpointing and export loop over the registry instead of a hand-kept list.
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <memory>
@@ -10,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/first_touch.hpp"
 #include "core/real.hpp"
 
 namespace varsph {
@@ -44,7 +46,8 @@ class FieldBase {
   virtual void resize(std::size_t n) = 0;
   virtual const void* raw() const = 0;
   virtual void* raw() = 0;
-  // out[k] = in[perm[k]] for every particle; `scratch` is reused to avoid allocation.
+  // out[k] = in[perm[k]] for every particle through `scratch` (at least size() elements of this field);
+  // worksharing loops of the caller's parallel region (ParticleStore::permute).
   virtual void permute(std::span<const std::uint32_t> perm, std::vector<std::byte>& scratch) = 0;
   // Keeps the particles kept[0..m) in that order and shrinks to m: out[k] = in[kept[k]] (particle removal).
   virtual void compact(std::span<const std::uint32_t> kept) = 0;
@@ -81,17 +84,18 @@ class Field final : public FieldBase {
     element_bytes_ = sizeof(T);
   }
   std::size_t size() const override { return data.size(); }
-  void resize(std::size_t n) override { data.resize(n); }
+  void resize(std::size_t n) override { first_touch_resize(data, n); }  // pages placed by the loops' threads
   const void* raw() const override { return data.data(); }
   void* raw() override { return data.data(); }
+  // Called by ParticleStore::permute inside its parallel region: the two loops are worksharing loops of
+  // that region (one fork/join for all fields), run serially if called outside a region.
   void permute(std::span<const std::uint32_t> perm, std::vector<std::byte>& scratch) override {
     const long n = long(data.size());
-    scratch.resize(std::size_t(n) * sizeof(T));  // grows once, then reused: no allocation per step
-    T* tmp = reinterpret_cast<T*>(scratch.data());
+    T* tmp = reinterpret_cast<T*>(scratch.data());  // sized by ParticleStore::permute for the largest field
     T* d = data.data();
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
     for (long k = 0; k < n; ++k) tmp[k] = d[perm[std::size_t(k)]];
-#pragma omp parallel for schedule(static)
+#pragma omp for schedule(static)
     for (long k = 0; k < n; ++k) d[k] = tmp[k];
   }
   void compact(std::span<const std::uint32_t> kept) override {
@@ -149,8 +153,13 @@ class ParticleStore {
     size_ = n;
     for (auto& f : fields_) f->resize(n);
   }
-  // Reorders every registered field: new[k] = old[perm[k]].
+  // Reorders every registered field: new[k] = old[perm[k]]. One parallel region for all fields (a
+  // fork/join per field and loop cost more than the copies themselves on small cases).
   void permute(std::span<const std::uint32_t> perm) {
+    std::size_t bytes = 0;
+    for (auto& f : fields_) bytes = std::max(bytes, f->bytes_per_particle() * size_);
+    first_touch_resize(scratch_, bytes);  // grows once, then reused: no allocation per step
+#pragma omp parallel
     for (auto& f : fields_) f->permute(perm, scratch_);
   }
   // Removes particles: keeps only the indices in `kept` (strictly ascending, so the order of the survivors

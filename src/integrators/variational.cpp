@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "core/errors.hpp"
@@ -10,6 +11,8 @@
 #include "physics/passes.hpp"
 #include "parallel/communicator.hpp"
 #include "physics/repulsive_wall.hpp"
+#include "physics/simd/isa.hpp"
+#include "physics/simd/vector_sweep.hpp"
 
 namespace varsph {
 namespace {
@@ -21,6 +24,7 @@ struct WallOnlyPass {
   const physics::RepulsiveWall& wall;
   const physics::ParticleView<D>& s;
   Vec<D>* out;
+  Real support;
   bool active(std::size_t i) const { return s.kind[i] == physics::kFluid; }
   Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
   void pair(Vec<D>& acc, std::size_t, std::size_t j, const Vec<D>& xij, Real r2) const {
@@ -28,6 +32,27 @@ struct WallOnlyPass {
   }
   void end(std::size_t i, const Vec<D>& acc) const { out[i] = acc; }
 };
+
+}  // namespace
+}  // namespace varsph
+
+// The vectorised sweep runs WallOnlyPass as a walls-only pass: the candidate test in packs, the wall pairs
+// through the pass's own pair() (physics/simd/vector_sweep.hpp).
+namespace varsph::physics::simd {
+template <int D>
+struct FluidTerms<::varsph::WallOnlyPass<D>> {
+  static constexpr bool covered = true;
+  static const ParticleView<D>& view(const ::varsph::WallOnlyPass<D>& p) { return p.s; }
+  static void fill(SweepArgs& A, const ::varsph::WallOnlyPass<D>& p) {
+    A.rc2 = double(p.support) * double(p.support);
+    A.walls_only = true;
+  }
+  static void add(Vec<D>&, const double*) {}
+};
+}  // namespace varsph::physics::simd
+
+namespace varsph {
+namespace {
 
 template <int D>
 physics::PhysicsParams<D> without_wall(physics::PhysicsParams<D> p) {
@@ -42,7 +67,7 @@ VariationalIntegrator<D>::VariationalIntegrator(const scene::Scene& s)
     : alpha_(s.alpha),
       tol_(s.fp_absolute_tolerance ? *s.fp_absolute_tolerance : s.fp_tolerance * s.spacing),
       max_it_(s.fp_max_iterations),
-      halve_on_failure_(s.fp_on_failure == "halve_dt") {
+      halve_on_failure_(s.fp_on_failure == "halve_dt"), isa_(physics::simd::choose_isa()) {
   summation_ = s.density == "summation";
   // alpha = 0: a1 sits at q_k; it still depends on q_{k+1} through the viscosity (midpoint velocity
   // (q_{k+1} - q_k)/dt) and the continuity density (eq. 67), so only this case is explicit.
@@ -55,6 +80,7 @@ void VariationalIntegrator<D>::register_fields(Simulation<D>& sim) {
   auto& st = sim.store();
   const FieldFlags scratch{.exported = false, .checkpointed = false};
   a2_ = &st.template add<Vec<D>>("variational_a2", {.exported = false, .checkpointed = true});
+  a2_prev_ = &st.template add<Vec<D>>("variational_a2_prev", {.exported = false, .checkpointed = true});
   mid_ = &st.template add<Vec<D>>("variational_midpoint", scratch);
   vit_ = &st.template add<Vec<D>>("variational_v_iterate", scratch);
   vnew_ = &st.template add<Vec<D>>("variational_v_next", scratch);
@@ -65,6 +91,14 @@ void VariationalIntegrator<D>::register_fields(Simulation<D>& sim) {
   drho1_ = &st.template add<Real>("variational_drho", scratch);
   std::fill(gamma_->data.begin(), gamma_->data.end(), Vec<D>::Zero());
   std::fill(a2_->data.begin(), a2_->data.end(), Vec<D>::Zero());
+  std::fill(a2_prev_->data.begin(), a2_prev_->data.end(), Vec<D>::Zero());
+  // benchmark switch for the initial guess (docs/performance.md): extrapolated (default) or constant
+  if (const char* e = std::getenv("VARSPH_VARIATIONAL_PREDICTOR")) {
+    const std::string want = e;
+    if (want != "extrapolated" && want != "constant")
+      throw InputError("VARSPH_VARIATIONAL_PREDICTOR=" + want + ": expected extrapolated or constant");
+    extrapolate_ = want == "extrapolated";
+  }
   residuals_.reserve(std::size_t(max_it_) + 2);
 }
 
@@ -117,9 +151,15 @@ template <int D>
 Real VariationalIntegrator<D>::make_midpoint(Simulation<D>& sim, std::span<const Vec<D>> v, Real s) {
   auto& f = sim.fields();
   const std::size_t n = sim.size();
-  Real vmax = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (f.kind[i] == 0) vmax = std::max(vmax, v[i].squaredNorm());
+  Real vmax = 0;  // a max: the same for any thread count
+  {
+    const std::int32_t* kind = f.kind.data.data();
+    const Vec<D>* vv = v.data();
+    const long nn = long(n);
+#pragma omp parallel for schedule(static) reduction(max : vmax)
+    for (long i = 0; i < nn; ++i)
+      if (kind[i] == 0) vmax = std::max(vmax, vv[i].squaredNorm());
+  }
   vmax = Real(sim.global_max(double(vmax)));  // every rank widens the skin together
   const Real shift = std::abs(s) * std::sqrt(vmax);
   if (!std::isfinite(shift) || !ensure_skin(sim, shift)) return -1;
@@ -141,18 +181,16 @@ void VariationalIntegrator<D>::eval_midpoint(Simulation<D>& sim, std::span<const
   Real* rho1 = rho1_->data.data();
   Real* p1 = p1_->data.data();
   const Real* rho = f.rho.data.data();
-  std::copy(rho, rho + n, rho1);
   const physics::ParticleView<D> base{mid_->data, v, f.rho.data, f.p.data, f.mass.data, f.kind.data};
   if (summation_) {
+    for_each_particle(n, [&](std::size_t i) { rho1[i] = rho[i]; });  // the slots the pass leaves alone
     fluid_rates_->summation_density(grid, base, rho1);  // seed eq. (20)/(30) at the midpoint
   } else {
     Real* drho = drho1_->data.data();
     fluid_rates_->density_rate(grid, base, drho);  // eq. (67)-(68), standard sign
     const std::int32_t* kind = f.kind.data.data();
     const bool walls = sim.params().boundary == physics::BoundaryModel::Dynamic;
-    for_each_particle(n, [&](std::size_t i) {
-      if (kind[i] == 0 || walls) rho1[i] = rho[i] + dt_rho * drho[i];
-    });
+    for_each_particle(n, [&](std::size_t i) { rho1[i] = (kind[i] == 0 || walls) ? rho[i] + dt_rho * drho[i] : rho[i]; });
   }
   const auto eos = sim.eos();
   for_each_particle(n, [&](std::size_t i) { p1[i] = eos.pressure(rho1[i]); });  // eq. (26)-(27), (35)-(36)
@@ -166,8 +204,9 @@ void VariationalIntegrator<D>::compute_gamma(Simulation<D>& sim) {
   const auto view = sim.current_view();
   sim.refresh_halo(view);  // distributed runs: ghosts at q_k
   if (on_evaluation) on_evaluation(sim.grid(), sim.fields().x.data);
-  WallOnlyPass<D> pass{*wall_, view, gamma_->data.data()};
-  for_each_particle_pairs<D>(sim.grid(), view.x, sim.rates().support(), pass);  // Gamma_k, eq. (58)
+  WallOnlyPass<D> pass{*wall_, view, gamma_->data.data(), sim.rates().support()};
+  if (!physics::simd::vector_sweep<D>(isa_, sim.grid(), pass))
+    for_each_particle_pairs<D>(sim.grid(), view.x, sim.rates().support(), pass);  // Gamma_k, eq. (58)
 }
 
 template <int D>
@@ -180,6 +219,7 @@ void VariationalIntegrator<D>::rebuild_previous(Simulation<D>& sim, double dt_ol
   eval_midpoint(sim, f.v.data, Real((1 - alpha_) * (dt_old - dt_new)), a2_->data.data());
   std::copy(rho1_->data.begin(), rho1_->data.end(), f.rho.data.begin());
   std::copy(p1_->data.begin(), p1_->data.end(), f.p.data.begin());
+  predictor_ready_ = false;  // a2 now belongs to an interval of length dt_new; a2_prev does not
 }
 
 template <int D>
@@ -212,13 +252,23 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
     history = "a1 at q_k could not be evaluated";
     return false;
   }
-  {  // explicit predictor q_{k+1;0} = 2 q_k - q_{k-1} + dt^2 (a2 + Gamma_k) (a1 taken as a2)
+  {  // explicit predictor q_{k+1;0} = 2 q_k - q_{k-1} + dt^2 [(1-alpha) a1~ + alpha a2 + Gamma_k], with a1~
+     // extrapolated linearly from the a1 of the last two steps (a2 and a2_prev: the a1 midpoints are dt
+     // apart when dt did not change), else a1~ = a2. The map F and its fixed point are the same either way.
     Vec<D>* vi = vit_->data.data();
     const Vec<D>* v = f.v.data.data();
     const Vec<D>* a2 = a2_->data.data();
+    const Vec<D>* a2p = a2_prev_->data.data();
     const Vec<D>* g = gamma_->data.data();
     const std::int32_t* kind = f.kind.data.data();
-    for_each_particle(n, [&](std::size_t i) { vi[i] = kind[i] == 0 ? Vec<D>(v[i] + dt * (a2[i] + g[i])) : v[i]; });
+    if (extrapolate_ && predictor_ready_) {
+      const Real w1 = Real(1 - alpha_);
+      for_each_particle(n, [&](std::size_t i) {
+        vi[i] = kind[i] == 0 ? Vec<D>(v[i] + dt * (a2[i] + g[i] + w1 * (a2[i] - a2p[i]))) : v[i];
+      });
+    } else {
+      for_each_particle(n, [&](std::size_t i) { vi[i] = kind[i] == 0 ? Vec<D>(v[i] + dt * (a2[i] + g[i])) : v[i]; });
+    }
   }
   int diverging = 0;
   double prev = 0;
@@ -229,9 +279,16 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
       too_far = true;
       break;
     }
-    double r2 = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (f.kind[i] == 0) r2 = std::max(r2, double((vnew_->data[i] - vit_->data[i]).squaredNorm()));
+    double r2 = 0;  // a max: the same for any thread count
+    {
+      const std::int32_t* kind = f.kind.data.data();
+      const Vec<D>* vn = vnew_->data.data();
+      const Vec<D>* vo = vit_->data.data();
+      const long nn = long(n);
+#pragma omp parallel for schedule(static) reduction(max : r2)
+      for (long i = 0; i < nn; ++i)
+        if (kind[i] == 0) r2 = std::max(r2, double((vn[i] - vo[i]).squaredNorm()));
+    }
     r2 = sim.global_max(r2);  // the convergence test over every rank's particles
     const double r = double(dt) * std::sqrt(r2);  // max_i |q_{k+1;j} - q_{k+1;j-1}|
     residuals_.push_back(r);
@@ -305,6 +362,7 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
     Vec<D>* a = f.a.data.data();
     Vec<D>* a1 = a1_->data.data();
     Vec<D>* a2 = a2_->data.data();
+    Vec<D>* a2p = a2_prev_->data.data();
     const Vec<D>* vn = vnew_->data.data();
     const Vec<D>* g = gamma_->data.data();
     Real* rho = f.rho.data.data();
@@ -317,12 +375,14 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
       p[i] = p1[i];
       if (kind[i] != 0) return;
       a[i] = w1 * a1[i] + w2 * a2[i] + g[i];
+      a2p[i] = a2[i];
       a2[i] = a1[i];
       v[i] = vn[i];
       x[i] += h * v[i];  // q_{k+1} = q_k + dt v_{k+1/2}
     });
   }
   dt_prev_ = dt;
+  predictor_ready_ = true;  // a2_prev and a2: consecutive intervals of length dt
   sim.sort_and_bin();
   if (halvings_ > 0 && ++steps_since_change_ >= kRegrowAfter) {
     --halvings_;  // the next step sees dt != dt_prev_ and rebuilds the previous interval
@@ -404,7 +464,8 @@ nlohmann::json VariationalIntegrator<D>::save_state() const {
   return {{"dt_prev", dt_prev_},
           {"halvings", halvings_},
           {"steps_since_change", steps_since_change_},
-          {"dt_bound", last_bound_}};
+          {"dt_bound", last_bound_},
+          {"predictor_ready", predictor_ready_}};
 }
 
 template <int D>
@@ -413,6 +474,7 @@ void VariationalIntegrator<D>::restore_state(const nlohmann::json& j) {
   if (j.contains("halvings")) halvings_ = j.at("halvings").get<int>();
   if (j.contains("steps_since_change")) steps_since_change_ = j.at("steps_since_change").get<long>();
   if (j.contains("dt_bound")) last_bound_ = j.at("dt_bound").get<double>();
+  predictor_ready_ = j.value("predictor_ready", false);
 }
 
 template class VariationalIntegrator<2>;

@@ -22,6 +22,7 @@
 
 #include "integrators/verlet.hpp"
 #include "physics/repulsive_wall.hpp"
+#include "physics/simd/sweep_args.hpp"
 #include "sim/simulation.hpp"
 
 namespace varsph {
@@ -52,6 +53,10 @@ class VariationalIntegrator final : public Integrator<D> {
   std::function<void(const NeighborGrid<D>&, std::span<const Vec<D>>)> on_evaluation;
   // Runs exactly n iterations per step and accepts the result (0: normal convergence control).
   void set_fixed_iterations(int n) { fixed_iterations_ = n; }
+  // Initial guess of the iteration: true (default) extrapolates a1 linearly from the last two steps' a2
+  // when they had the same dt; false takes a1 = a2 (the guess before issue 19). Either converges to the
+  // same fixed point (the map F is the same); only the number of iterations changes.
+  void set_extrapolated_predictor(bool on) { extrapolate_ = on; }
   // a2 of the next step (fluid part, without Gamma), and a fresh evaluation of it on the current state.
   std::span<const Vec<D>> cached_a2() const { return a2_->data; }
   void fresh_a2(Simulation<D>& sim, std::vector<Vec<D>>& out);
@@ -82,6 +87,7 @@ class VariationalIntegrator final : public Integrator<D> {
   double tol_;  // [m]
   int max_it_;
   bool halve_on_failure_;
+  physics::simd::Isa isa_;  // the vectorised sweep for the wall-force pass (physics/simd/)
   bool explicit_ = false;
   bool has_wall_ = false;
   bool summation_ = false;
@@ -95,11 +101,14 @@ class VariationalIntegrator final : public Integrator<D> {
   int halvings_ = 0;        // current dt = scene dt / 2^halvings
   long steps_since_change_ = 0;
   double last_bound_ = 0;
+  bool predictor_ready_ = false;  // a2_prev_ and a2_ belong to two consecutive intervals of the same dt
+  bool extrapolate_ = true;
 
   std::unique_ptr<physics::Rates<D>> fluid_rates_;  // the scene's rates without the wall force
   std::unique_ptr<physics::RepulsiveWall> wall_;
   // registered fields
-  Field<Vec<D>>* a2_ = nullptr;  // state (checkpointed)
+  Field<Vec<D>>* a2_ = nullptr;       // state (checkpointed)
+  Field<Vec<D>>* a2_prev_ = nullptr;  // a2 of the previous step, for the predictor (checkpointed)
   Field<Vec<D>>* mid_ = nullptr;
   Field<Vec<D>>* vit_ = nullptr;
   Field<Vec<D>>* vnew_ = nullptr;

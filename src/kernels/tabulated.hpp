@@ -35,6 +35,9 @@ class Tabulated {
   Real h() const { return h_; }
   Real w_r2(Real r2) const { return lerp(w_, r2); }
   Real grad_factor_r2(Real r2) const { return lerp(f_, r2); }
+  // the F table and its scale, for the vectorised sweep (physics/simd/), which interpolates the same way
+  const Real* f_table() const { return f_.data(); }
+  Real table_scale() const { return scale_; }
 
  private:
   Real lerp(const std::vector<Real>& t, Real r2) const {

@@ -1,5 +1,7 @@
 #include "neighbors/neighbor_grid.hpp"
 
+#include "core/first_touch.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -8,7 +10,54 @@
 #include <stdexcept>
 #include <string>
 
+#include <omp.h>
+
 namespace varsph {
+namespace {
+
+// Below this many particles the counting sort runs serially (a few microseconds; parallel regions would
+// cost more). Both paths produce the same stable order, so the choice never changes results.
+constexpr std::size_t kParallelSortMin = 100000;
+
+// In-place exclusive prefix sum of get(k) for k < m, set(k, sum of get(0..k-1)), in parallel with a fixed
+// partition by the static schedule: integer sums, so the result is the same for any thread count.
+template <class Get, class Set>
+std::uint32_t parallel_exclusive_scan(long m, Get&& get, Set&& set) {
+  if (m < long(kParallelSortMin) || omp_get_max_threads() == 1) {  // a parallel region costs more here
+    std::uint64_t run = 0;
+    for (long k = 0; k < m; ++k) {
+      const std::uint64_t v = get(k);
+      set(k, std::uint32_t(run));
+      run += v;
+    }
+    return std::uint32_t(run);
+  }
+  std::vector<std::uint64_t> part(std::size_t(omp_get_max_threads()) + 1, 0);
+  std::uint64_t total = 0;
+#pragma omp parallel
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const long lo = m * t / nt, hi = m * (t + 1) / nt;
+    std::uint64_t sum = 0;
+    for (long k = lo; k < hi; ++k) sum += get(k);
+    part[std::size_t(t) + 1] = sum;
+#pragma omp barrier
+#pragma omp single
+    {
+      for (int q = 0; q < nt; ++q) part[std::size_t(q) + 1] += part[std::size_t(q)];
+      total = part[std::size_t(nt)];
+    }
+    std::uint64_t run = part[std::size_t(t)];
+    for (long k = lo; k < hi; ++k) {
+      const std::uint64_t v = get(k);
+      set(k, std::uint32_t(run));
+      run += v;
+    }
+  }
+  return std::uint32_t(total);
+}
+
+}  // namespace
 
 template <int D>
 void NeighborGrid<D>::configure(const Options& opt) {
@@ -91,19 +140,103 @@ void NeighborGrid<D>::build(std::span<const Vec<D>> x, std::vector<std::uint32_t
   else build_uniform(x, perm);
 }
 
+// Serial stable counting sort of the cell keys; fills perm, count_ (end of every cell) and blocks_.
+template <int D>
+void NeighborGrid<D>::sort_serial(std::size_t n, std::int64_t n_cells, std::vector<std::uint32_t>& perm) {
+  count_.assign(std::size_t(n_cells) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++count_[cell_key_[i] + 1];
+  for (std::int64_t c = 0; c < n_cells; ++c) count_[c + 1] += count_[c];
+  perm.resize(n);
+  for (std::size_t i = 0; i < n; ++i) perm[count_[cell_key_[i]]++] = std::uint32_t(i);
+  // blocks: occupied cells in cell order (count_[c] is now the end of cell c)
+  blocks_.clear();
+  std::uint32_t begin = 0;
+  for (std::int64_t c = 0; c < n_cells; ++c) {
+    const std::uint32_t end = count_[c];
+    if (end > begin) blocks_.push_back({begin, end, 0, 0});
+    begin = end;
+  }
+}
+
+// The same sort in parallel, with the same result: atomic histogram, parallel prefix sum, scatter with
+// atomic cursors (which leaves the order inside a cell arbitrary), then each cell's few particles put back
+// in increasing index order - the stable order. The per-cell array is zeroed (and so first touched) with
+// the static schedule; no O(cells) or O(particles) loop is serial.
+template <int D>
+void NeighborGrid<D>::sort_parallel(std::size_t n, std::int64_t n_cells, std::vector<std::uint32_t>& perm) {
+  const long nn = long(n), nc = long(n_cells);
+  if (count_.size() != std::size_t(n_cells) + 1) {
+    count_.clear();
+    count_.shrink_to_fit();
+    first_touch_resize(count_, std::size_t(n_cells) + 1);
+  }
+  std::uint32_t* cnt = count_.data();
+  const std::uint32_t* key = cell_key_.data();
+#pragma omp parallel for schedule(static)
+  for (long c = 0; c <= nc; ++c) cnt[c] = 0;
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < nn; ++i) {
+#pragma omp atomic update
+    ++cnt[key[i]];
+  }
+  // cnt[c] = first slot of cell c, cnt[n_cells] = n
+  parallel_exclusive_scan(nc + 1, [&](long c) { return cnt[c]; }, [&](long c, std::uint32_t at) { cnt[c] = at; });
+  first_touch_resize(perm, n);
+  std::uint32_t* out = perm.data();
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < nn; ++i) {
+    std::uint32_t slot;
+#pragma omp atomic capture
+    slot = cnt[key[i]]++;
+    out[slot] = std::uint32_t(i);
+  }
+  // cnt[c] is now the end of cell c. Blocks: occupied cells in cell order (count per static chunk of
+  // cells, prefix over the chunks, fill), and each block's particles sorted by index (stable order).
+  const int nt_max = omp_get_max_threads();
+  std::vector<std::uint32_t> part(std::size_t(nt_max) + 1, 0);
+  auto begin_of = [cnt](long c) { return c == 0 ? 0u : cnt[c - 1]; };
+  int teams = 1;
+#pragma omp parallel
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const long lo = nc * t / nt, hi = nc * (t + 1) / nt;
+    std::uint32_t occupied = 0;
+    for (long c = lo; c < hi; ++c) occupied += cnt[c] > begin_of(c);
+    part[std::size_t(t) + 1] = occupied;
+#pragma omp single
+    teams = nt;
+  }
+  for (int q = 0; q < teams; ++q) part[std::size_t(q) + 1] += part[std::size_t(q)];
+  blocks_.clear();
+  first_touch_resize(blocks_, part[std::size_t(teams)]);
+#pragma omp parallel
+  for (int t = omp_get_thread_num(); t < teams; t += omp_get_num_threads()) {  // the chunks counted above
+    const long lo = nc * t / teams, hi = nc * (t + 1) / teams;
+    std::uint32_t at = part[std::size_t(t)];
+    for (long c = lo; c < hi; ++c) {
+      const std::uint32_t b = begin_of(c), e = cnt[c];
+      if (e <= b) continue;
+      std::uint32_t* p = out + b;
+      for (std::uint32_t k = 1; k < e - b; ++k)  // insertion sort: a cell holds a few particles
+        for (std::uint32_t q = k; q > 0 && p[q - 1] > p[q]; --q) std::swap(p[q - 1], p[q]);
+      blocks_[at++] = {b, e, 0, 0};
+    }
+  }
+}
+
 template <int D>
 void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm) {
   const std::size_t n = x.size();
   std::int64_t n_cells = 1;
   for (int a = 0; a < D; ++a) n_cells *= dims_[a];
-  // cell keys in 4 bytes per particle, computed in parallel once (the histogram and the scatter are
-  // serial and read them twice: recomputing the floor per axis there cost 7 % of a 2D step)
+  // cell keys in 4 bytes per particle, computed in parallel once (the histogram and the scatter read
+  // them twice: recomputing the floor per axis there cost 7 % of a 2D step)
   if (n_cells >= std::int64_t(std::numeric_limits<std::uint32_t>::max()))
     throw std::invalid_argument("neighbour grid: " + std::to_string(n_cells) +
                                 " cells exceed a dense grid; use domain.neighbor_search = \"hash\"");
   key_.clear();
   key_.shrink_to_fit();
-  cell_key_.resize(n);
+  first_touch_resize(cell_key_, n);
   const long nn = long(n);
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < nn; ++i) {
@@ -114,22 +247,8 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
   }
   // stable counting sort by cell with one per-cell array: count_[c + 1] = particles in cell c, prefix sum
   // (count_[c] = first slot of cell c), scatter with count_[c] as the cursor (count_[c] = end of cell c)
-  count_.assign(std::size_t(n_cells) + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) ++count_[cell_key_[i] + 1];
-  for (std::int64_t c = 0; c < n_cells; ++c) count_[c + 1] += count_[c];
-  perm.resize(n);
-  for (std::size_t i = 0; i < n; ++i) perm[count_[cell_key_[i]]++] = std::uint32_t(i);
-  // blocks: occupied cells in cell order; count_ keeps the cell ends, from which the neighbour ranges
-  // are read: the dense per-cell storage is 4 bytes per cell in all
-  blocks_.clear();
-  {
-    std::uint32_t begin = 0;
-    for (std::int64_t c = 0; c < n_cells; ++c) {  // count_[c] is now the end of cell c
-      const std::uint32_t end = count_[c];
-      if (end > begin) blocks_.push_back({begin, end, 0, 0});
-      begin = end;
-    }
-  }
+  if (n < kParallelSortMin || omp_get_max_threads() == 1) sort_serial(n, n_cells, perm);
+  else sort_parallel(n, n_cells, perm);
   // Neighbour ranges of every block: the stencil cells of one row (fixed offsets on the axes above x)
   // are consecutive cell keys, so their particles are one slice of the sorted order, read from the
   // cell ends in count_: (2m+1)^(D-1) ranges per block (split only where x wraps periodically), in
@@ -192,13 +311,14 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
     visit(blocks_[q], [&](const NeighborRange&) { ++cnt; });
     blocks_[q].nbr_end = cnt;
   }
-  std::uint32_t total = 0;
-  for (auto& b : blocks_) {
-    b.nbr_begin = total;
-    total += b.nbr_end;
-    b.nbr_end = total;
-  }
-  ranges_.resize(total);
+  const std::uint32_t total = parallel_exclusive_scan(
+      nblk, [&](long q) { return blocks_[std::size_t(q)].nbr_end; },
+      [&](long q, std::uint32_t at) {
+        CellBlock& b = blocks_[std::size_t(q)];
+        b.nbr_end += at;
+        b.nbr_begin = at;
+      });
+  first_touch_resize(ranges_, total);
 #pragma omp parallel for schedule(static)
   for (long q = 0; q < nblk; ++q) {
     std::uint32_t at = blocks_[q].nbr_begin;

@@ -88,6 +88,8 @@ class NeighborGrid {
   }
   Coord coord_of(const Vec<D>& x) const;
   void build_uniform(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm);
+  void sort_serial(std::size_t n, std::int64_t n_cells, std::vector<std::uint32_t>& perm);
+  void sort_parallel(std::size_t n, std::int64_t n_cells, std::vector<std::uint32_t>& perm);
   void build_hashed(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm);
   std::uint32_t shift_id(const std::array<int, D>& wrap) const;
 

@@ -80,6 +80,13 @@ class Domain {
   // tags (construction: rows in id order; restart: rows of the checkpoint). The store must hold
   // exactly those n rows; the next rebin() partitions from scratch.
   void adopt(ParticleStore& store, std::int64_t first_row);
+  // The store holds n owned rows whose order tags were put back with them (a state snapshot restored);
+  // the next rebin() partitions from scratch.
+  void restore_owned(std::size_t n) {
+    owned_ = n;
+    ghosts_ = 0;
+    repartition_pending_ = true;
+  }
   // Keeps the owned rows `kept` (strictly ascending; their order tags stay) and drops every ghost: particle
   // removal (health.*). The caller then calls rebin() on every rank, which rebuilds the ghosts.
   void compact_owned(ParticleStore& store, std::span<const std::uint32_t> kept);

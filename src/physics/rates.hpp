@@ -31,6 +31,8 @@ class Rates {
     acceleration(grid, s, a);
   }
   virtual bool fused() const { return false; }  // true when density_rate_and_acceleration is one sweep
+  // instruction set of the vectorised pair sweep in use where it covers the scene's terms ("scalar": none)
+  virtual const char* simd() const { return "scalar"; }
   // force of the fluid on every boundary particle (BoundaryReactionPass; fluid slots untouched) [N]
   virtual void boundary_reaction(const NeighborGrid<D>& grid, const ParticleView<D>& s, Vec<D>* force) const = 0;
   virtual Real support() const = 0;

@@ -7,11 +7,14 @@
 #include <numbers>
 #include <vector>
 
+#include "core/first_touch.hpp"
 #include "kernels/tabulated.hpp"
 #include "physics/pair_loop.hpp"
 #include "physics/passes.hpp"
 #include "physics/rates.hpp"
 #include "physics/wall_mdbc.hpp"
+#include "physics/simd/isa.hpp"
+#include "physics/simd/vector_sweep.hpp"
 
 namespace varsph::physics {
 
@@ -46,6 +49,7 @@ class RatesImpl final : public Rates<D> {
     add_optional_accelerations(g, s, a);
   }
   bool fused() const override { return fused_fn_ != nullptr; }
+  const char* simd() const override { return simd::to_string(vector_covered_ ? isa_ : simd::Isa::Scalar); }
   // artificial stress and damping, each its own loop and only when named
   void add_optional_accelerations(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) const {
     if (p_.tensile == TensileFix::ArtificialStress) {
@@ -121,7 +125,7 @@ class RatesImpl final : public Rates<D> {
 
   // p / rho^2 of every particle, once per pass instead of once per pair (scratch grows once)
   const Real* pressure_terms(const ParticleView<D>& s) const {
-    p_over_rho2_.resize(s.size());
+    first_touch_resize(p_over_rho2_, s.size());
     Real* pr = p_over_rho2_.data();
     for_each_particle(s.size(), [&](std::size_t i) { pr[i] = s.p[i] / (s.rho[i] * s.rho[i]); });
     return pr;
@@ -130,16 +134,21 @@ class RatesImpl final : public Rates<D> {
   template <class Diff>
   const Real* volumes(const ParticleView<D>& s) const {
     if constexpr (!Diff::enabled) return nullptr;
-    volume_.resize(s.size());
+    first_touch_resize(volume_, s.size());
     Real* V = volume_.data();
     for_each_particle(s.size(), [&](std::size_t i) { V[i] = s.mass[i] / s.rho[i]; });
     return V;
+  }
+  // the vectorised sweep where it covers the pass (physics/simd/), else the scalar one (the reference)
+  template <class Pass>
+  void sweep(const NeighborGrid<D>& g, const ParticleView<D>& s, Pass& pass) const {
+    if (!simd::vector_sweep<D>(isa_, g, pass)) for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
   }
   template <class Visc, BoundaryModel M>
   static void run_acc(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) {
     const Visc visc = r.template viscosity<Visc>();
     AccelerationPass<D, Kernel, Visc, M> pass{r.W_, visc, r.wall_, s, r.g_eff_, a, &r.soft_, r.pressure_terms(s)};
-    for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
+    r.sweep(g, s, pass);
   }
   // force of the fluid on boundary particles from the same pair terms (probes)
   template <class Visc, BoundaryModel M>
@@ -163,13 +172,13 @@ class RatesImpl final : public Rates<D> {
     const Dens dens{r.W_, s, drho, r.template diffusion<Diff>(g, s), V};
     const Accel accel{r.W_, visc, r.wall_, s, r.g_eff_, a, &r.soft_, r.pressure_terms(s)};
     FusedRatesPass<D, Dens, Accel> pass{dens, accel};
-    for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
+    r.sweep(g, s, pass);
   }
   template <BoundaryModel M, class Diff>
   static void run_drho(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Real* drho) {
     const Real* V = r.template volumes<Diff>(s);
     DensityRatePass<D, Kernel, M, Diff> pass{r.W_, s, drho, r.template diffusion<Diff>(g, s), V};
-    for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
+    r.sweep(g, s, pass);
   }
   template <BoundaryModel M>
   static void run_sum(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Real* rho) {
@@ -200,22 +209,28 @@ class RatesImpl final : public Rates<D> {
     else return Diff(p_.diffusion_delta, p_.h, p_.c0, p_.rho0, p_.gravity);
   }
 
+  // true when the vectorised sweep covers this pass type (physics/simd/vector_sweep.hpp)
+  template <class Pass>
+  static constexpr bool vectorised = simd::FluidTerms<Pass>::covered && std::is_same_v<Real, double>;
+  template <class Visc, BoundaryModel M>
+  void set_acc() {
+    acc_fn_ = &run_acc<Visc, M>;
+    react_fn_ = &run_react<Visc, M>;
+    vector_covered_ = vectorised<AccelerationPass<D, Kernel, Visc, M>>;
+  }
   template <class Visc>
   void acc_for_wall() {
     switch (p_.boundary) {
       case BoundaryModel::Repulsive:
-        acc_fn_ = &run_acc<Visc, BoundaryModel::Repulsive>;
-        react_fn_ = &run_react<Visc, BoundaryModel::Repulsive>;
+        set_acc<Visc, BoundaryModel::Repulsive>();
         return;
       case BoundaryModel::Dynamic:  // same pass as dummy walls: walls are pressure particles
       case BoundaryModel::DummyAdami:
       case BoundaryModel::Mdbc:
-        acc_fn_ = &run_acc<Visc, BoundaryModel::DummyAdami>;
-        react_fn_ = &run_react<Visc, BoundaryModel::DummyAdami>;
+        set_acc<Visc, BoundaryModel::DummyAdami>();
         return;
       case BoundaryModel::SoftRepulsive:
-        acc_fn_ = &run_acc<Visc, BoundaryModel::SoftRepulsive>;
-        react_fn_ = &run_react<Visc, BoundaryModel::SoftRepulsive>;
+        set_acc<Visc, BoundaryModel::SoftRepulsive>();
         return;
     }
   }
@@ -253,22 +268,20 @@ class RatesImpl final : public Rates<D> {
 
   // The fused sweep is compiled for the tabulated kernels only (the default and the fast path): the
   // exact kernels serve as references and keep the two separate passes.
+  template <class Visc, BoundaryModel MD, BoundaryModel MA, class Diff>
+  void set_fused() {
+    fused_fn_ = &run_fused<Visc, MD, MA, Diff>;
+    vector_covered_ = vectorised<FusedRatesPass<D, DensityRatePass<D, Kernel, MD, Diff>, AccelerationPass<D, Kernel, Visc, MA>>>;
+  }
   template <class Visc, class Diff>
   void fused_for_wall() {
     switch (p_.boundary) {
-      case BoundaryModel::Repulsive:
-        fused_fn_ = &run_fused<Visc, BoundaryModel::Repulsive, BoundaryModel::Repulsive, Diff>;
-        return;
-      case BoundaryModel::Dynamic:
-        fused_fn_ = &run_fused<Visc, BoundaryModel::Dynamic, BoundaryModel::DummyAdami, Diff>;
-        return;
+      case BoundaryModel::Repulsive: return set_fused<Visc, BoundaryModel::Repulsive, BoundaryModel::Repulsive, Diff>();
+      case BoundaryModel::Dynamic: return set_fused<Visc, BoundaryModel::Dynamic, BoundaryModel::DummyAdami, Diff>();
       case BoundaryModel::DummyAdami:
-      case BoundaryModel::Mdbc:
-        fused_fn_ = &run_fused<Visc, BoundaryModel::DummyAdami, BoundaryModel::DummyAdami, Diff>;
-        return;
+      case BoundaryModel::Mdbc: return set_fused<Visc, BoundaryModel::DummyAdami, BoundaryModel::DummyAdami, Diff>();
       case BoundaryModel::SoftRepulsive:
-        fused_fn_ = &run_fused<Visc, BoundaryModel::DummyAdami, BoundaryModel::SoftRepulsive, Diff>;
-        return;
+        return set_fused<Visc, BoundaryModel::DummyAdami, BoundaryModel::SoftRepulsive, Diff>();
     }
   }
   template <class Visc>
@@ -299,6 +312,7 @@ class RatesImpl final : public Rates<D> {
   }
 
   PhysicsParams<D> p_;
+  simd::Isa isa_ = simd::choose_isa();  // VARSPH_SIMD or the best this build and CPU have
   Kernel W_;
   RepulsiveWall wall_;
   SoftRepulsiveWall soft_;
@@ -309,6 +323,7 @@ class RatesImpl final : public Rates<D> {
   TaitEos eos_;
   Vec<D> g_eff_ = Vec<D>::Zero();
   bool damping_on_ = false;
+  bool vector_covered_ = false;  // the main sweep (fused, else acceleration) has a vector twin: simd()
   AccFn acc_fn_ = nullptr, react_fn_ = nullptr;
   mutable std::vector<Real> p_over_rho2_;  // scratch of the acceleration pass
   mutable std::vector<Real> volume_;       // scratch of the density-diffusion term

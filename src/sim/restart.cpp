@@ -35,6 +35,10 @@ std::size_t checkpoint_boundary_count(const io::Checkpoint& c, std::size_t parti
   return n;
 }
 
+// What a state snapshot copies: the checkpointed fields and, in a distributed run, the order tags that
+// give the serial summation order (parallel/domain.hpp).
+bool in_snapshot(const FieldBase& f) { return f.flags().checkpointed || f.name() == "parallel_order_tag"; }
+
 }  // namespace
 
 bool restart_may_change(const std::string& k) {
@@ -154,7 +158,7 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
   buffers_.resize(fields.size());
   for (std::size_t k = 0; k < fields.size(); ++k) {
     const auto& f = fields[k];
-    if (!f->flags().checkpointed) continue;
+    if (!in_snapshot(*f)) continue;
     const std::size_t n = f->bytes_per_particle() * f->size();
     buffers_[k].resize(n);  // no reallocation after the first capture
     if (n) std::memcpy(buffers_[k].data(), f->raw(), n);
@@ -175,19 +179,43 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
-    if (!f->flags().checkpointed || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
+    if (!in_snapshot(*f) || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
     if (!buffers_[k].empty()) std::memcpy(f->raw(), buffers_[k].data(), buffers_[k].size());
   }
   sim.set_clock(time_, step_);
   sim.set_dt(dt_);
   sim.integrator().restore_state(integrator_state_);
   if (sim.distributed()) {  // owned rows back in place, ghosts and grid rebuilt for them (collective)
-    sim.adopt_rows(owned_, 0);
+    sim.adopt_rows(owned_, -1);  // with the captured order tags: the serial summation order
     sim.recount_kinds();
     sim.rebin();
   } else {
     sim.recount_kinds();
   }
+}
+
+template <int D>
+long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
+  // particles removed after the capture come back; a distributed step may have moved particles
+  // between ranks: back to the captured rows (owned first, ghosts after them)
+  sim.store().resize(stored_);
+  const auto& fields = sim.store().fields();
+  for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
+    const auto& f = fields[k];
+    if (!in_snapshot(*f) || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
+    if (!buffers_[k].empty()) std::memcpy(f->raw(), buffers_[k].data(), buffers_[k].size());
+  }
+  if (sim.distributed()) sim.adopt_rows(owned_, -1);  // ghosts dropped, order tags kept (collective below)
+  sim.recount_kinds();
+  // the order of restore_from_checkpoint(): the arrays are in the captured step's cell order, and the
+  // stable sort rebuilds its grid without moving them
+  sim.set_clock(time_, step_);
+  sim.sort_and_bin();
+  sim.set_dt(dt_);
+  sim.integrator().restore_state(integrator_state_);
+  long replayed = 0;
+  for (; sim.step() < step; ++replayed) sim.advance();
+  return replayed;
 }
 
 template <int D>

@@ -32,14 +32,20 @@ template <int D>
 io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json& runner_state);
 
 // A copy of everything a checkpoint holds, in preallocated buffers (no allocation after the first
-// capture): taken before each step so that a blow-up can write the last good frame and checkpoint.
+// capture), so that a blow-up can write the last good frame and checkpoint. The runner takes it every
+// few steps, not before each one: replay_to() restores it and advances to the last good step again,
+// which reproduces that step bit for bit (the steps are deterministic for any thread count).
 template <int D>
 class StateSnapshot {
  public:
   void capture(Simulation<D>& sim, const nlohmann::json& runner_state);
   // Puts the captured state back into the simulation (same fields; particles removed since come back).
   void restore(Simulation<D>& sim) const;
+  // restore(), the neighbour grid rebuilt as a restart from a checkpoint does, then sim.advance() until
+  // sim.step() == step (>= the captured step). Returns the number of steps replayed.
+  long replay_to(Simulation<D>& sim, long step) const;
   bool valid() const { return valid_; }
+  long step() const { return step_; }
   const nlohmann::json& runner_state() const { return runner_state_; }
   std::size_t bytes() const;
 

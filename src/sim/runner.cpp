@@ -353,9 +353,13 @@ class Runner {
   }
 
   // --- blow-up handling ---------------------------------------------------------------------------
-  // The state before each step is copied into preallocated buffers (cost measured in run.json:
-  // timings.last_good_copy_seconds), so a failing step can be undone and written.
+  // The state is copied into preallocated buffers every kLastGoodEvery steps (cost in run.json:
+  // timings.last_good_copy_seconds); a failing step is undone by restoring the copy and replaying the
+  // steps after it, which reproduces the last good step exactly (StateSnapshot::replay_to).
+  static constexpr long kLastGoodEvery = 100;
   void capture_last_good(Simulation<D>& sim) {
+    if (last_good_.valid() && sim.step() - last_good_.step() < kLastGoodEvery && sim.step() >= last_good_.step())
+      return;
     const auto t = std::chrono::steady_clock::now();
     last_good_.capture(sim, runner_state());
     snapshot_seconds_ += seconds_since(t);
@@ -367,7 +371,7 @@ class Runner {
     std::string msg = "numerical failure at step " + std::to_string(bad_step) + ", t = " + std::to_string(bad_time) +
                       " s: " + bad + ".";
     if (!last_good_.valid()) return msg;
-    last_good_.restore(sim);
+    last_good_.replay_to(sim, bad_step - 1);
     if (last_frame_step_ != sim.step()) write_frame(sim);
     const std::string cp = write_checkpoint(sim);
     return msg + " Wrote the last good state (step " + std::to_string(sim.step()) + ", t = " +
@@ -521,8 +525,10 @@ class Runner {
                       {"fluid_particle_steps_per_second", particle_steps_ / std::max(wall, 1e-9)},
                       {"ns_per_fluid_particle_step", wall / std::max(particle_steps_, 1.0) * 1e9},
                       {"threads", omp_get_max_threads()},
+                      {"pair_sweep", sim.rates().simd()},
                       {"last_good_copy_seconds", snapshot_seconds_},
                       {"step_seconds", step_seconds_},
+                      {"last_good_every_steps", kLastGoodEvery},
                       {"last_good_copy_bytes", last_good_.bytes()}};
     }
     j["parallel"] = parallel_summary(sim);  // collective

@@ -212,7 +212,8 @@ void Simulation<D>::refresh_halo(const physics::ParticleView<D>& view) {
 template <int D>
 void Simulation<D>::adopt_rows(std::size_t n, std::int64_t first_row) {
   store_.resize(n);
-  if (domain_) domain_->adopt(store_, first_row);
+  if (domain_ && first_row < 0) domain_->restore_owned(n);
+  else if (domain_) domain_->adopt(store_, first_row);
 }
 
 template <int D>

@@ -152,6 +152,7 @@ class Simulation {
   void refresh_halo(const physics::ParticleView<D>& view);
   // The store now holds `n` particles that are rows [first_row, first_row + n) of a checkpoint (or of a
   // captured state) and no ghosts; the next sort_and_bin() partitions them anew. Restart and blow-up.
+  // first_row < 0: the rows' order tags were restored with them (StateSnapshot) and are kept.
   void adopt_rows(std::size_t n, std::int64_t first_row);
   // --- particle removal (sim/health.*; a store-level operation a decomposition layer can call too) ----
   // Removes the particles at the given storage indices (strictly ascending) from every registered field

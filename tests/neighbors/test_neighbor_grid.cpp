@@ -1,5 +1,6 @@
 // Neighbour sets of the cell grid and the hash grid against O(N^2) brute force (both sorted first).
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <random>
@@ -195,4 +196,48 @@ TEST(NeighborGrid, PointQueriesMatchBruteForce) {
   check_point_queries<3>(false, {false, true, false}, 5);
   check_point_queries<2>(true, {false, false}, 6);
   check_point_queries<3>(true, {false, false, false}, 7);
+}
+
+// Above 100k particles the counting sort runs in parallel (atomic histogram and cursors, then each cell
+// put back in index order): the permutation, blocks and ranges must be those of the serial sort, for
+// unsorted input (first step) and for nearly sorted input (every later step), in 2D and 3D.
+template <int D>
+void expect_parallel_sort_equals_serial(int n, Real cell) {
+  auto x = random_points<D>(n, 21, Real(0.1), Real(0.9));
+  for (int pass = 0; pass < 2; ++pass) {
+    NeighborGrid<D> serial, parallel;
+    serial.configure(options<D>(cell, false));
+    parallel.configure(options<D>(cell, false));
+    std::vector<std::uint32_t> ps, pp;
+    omp_set_num_threads(1);
+    serial.build(x, ps);
+    omp_set_num_threads(3);
+    parallel.build(x, pp);
+    omp_set_num_threads(1);
+    ASSERT_EQ(ps, pp) << "pass " << pass;
+    ASSERT_EQ(serial.blocks().size(), parallel.blocks().size());
+    for (std::size_t b = 0; b < serial.blocks().size(); ++b) {
+      const auto &s = serial.blocks()[b], &p = parallel.blocks()[b];
+      ASSERT_TRUE(s.begin == p.begin && s.end == p.end && s.nbr_begin == p.nbr_begin && s.nbr_end == p.nbr_end) << b;
+    }
+    ASSERT_EQ(serial.ranges().size(), parallel.ranges().size());
+    for (std::size_t r = 0; r < serial.ranges().size(); ++r) {
+      const auto &s = serial.ranges()[r], &p = parallel.ranges()[r];
+      ASSERT_TRUE(s.begin == p.begin && s.end == p.end && s.shift == p.shift) << r;
+    }
+    // second pass: the sorted order, slightly moved (what sort_and_bin sees every step)
+    std::vector<Vec<D>> moved(x.size());
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-0.3 * double(cell), 0.3 * double(cell));
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      moved[k] = x[ps[k]];
+      for (int a = 0; a < D; ++a) moved[k][a] += Real(u(rng));
+    }
+    x = moved;
+  }
+}
+
+TEST(NeighborGrid, ParallelCountingSortEqualsTheSerialOne) {
+  expect_parallel_sort_equals_serial<2>(150000, Real(0.004));
+  expect_parallel_sort_equals_serial<3>(120000, Real(0.02));
 }
