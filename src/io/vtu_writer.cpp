@@ -249,6 +249,11 @@ void write_pvtu(const std::string& path, const FrameData& frame, const std::vect
   xml += std::string("      <PDataArray type=\"") + (f64 ? "Float64" : "Float32") +
          "\" Name=\"Points\" NumberOfComponents=\"3\"/>\n";
   xml += "    </PPoints>\n";
+  // the pieces' vertex cells, declared as the pieces write them: without PCells VTK's parallel reader
+  // builds the merged grid's cells wrongly (ParaView's Threshold then crashed in postprocess.py)
+  xml += "    <PCells>\n      <PDataArray type=\"Int64\" Name=\"connectivity\"/>\n"
+         "      <PDataArray type=\"Int64\" Name=\"offsets\"/>\n      <PDataArray type=\"UInt8\" Name=\"types\"/>\n"
+         "    </PCells>\n";
   for (const auto& p : pieces) xml += "    <Piece Source=\"" + xml_escape(p) + "\"/>\n";
   xml += "  </PUnstructuredGrid>\n</VTKFile>\n";
   write_atomically(path, [&](const std::filesystem::path& tmp) {

@@ -21,9 +21,12 @@ exe, mpirun, scene = sys.argv[1], shlex.split(sys.argv[2]), sys.argv[3]
 tmp = T.workdir("pvtu")
 runs = {"serial": os.path.join(tmp, "serial"), "mpi": os.path.join(tmp, "mpi")}
 args = ["run", scene, "--set", "time.end=0.06", "--set", "output.every=0.02", "--quiet"]
+# pvpython initialises its own MPI (a singleton): its OMPI_* / PMIX_* variables would make the launched
+# mpiexec and varsph believe they are inside that job, so the runs get a clean environment
+env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_", "PRTE_"))}
 for name, prefix in (("serial", []), ("mpi", mpirun)):
     p = subprocess.run(prefix + [exe] + args + ["-o", runs[name]], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                       text=True, timeout=600)
+                       text=True, timeout=600, env=env)
     print(p.stdout[-2000:])
     T.check(p.returncode == 0, "%s run exit status 0 (%d)" % (name, p.returncode))
     if p.returncode != 0:
