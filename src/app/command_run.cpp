@@ -13,9 +13,11 @@
 namespace varsph {
 
 int command_run(const CommandArgs& a) {
+  std::vector<std::string> overrides = a.overrides;
+  if (!a.device.empty()) overrides.push_back("execution.device=\"" + a.device + "\"");  // validated with the scene
   // every rank parses the same scene; agreeing on errors keeps them from aborting one another
   std::optional<scene::Scene> parsed;
-  parallel::collectively(*a.comm, [&] { parsed = scene::parse_scene(a.scene, a.overrides); });
+  parallel::collectively(*a.comm, [&] { parsed = scene::parse_scene(a.scene, overrides); });
   const scene::Scene& s = *parsed;
   if (a.comm->root())  // one warning per run, not one per rank
     for (const auto& w : scene::check_sanity(s)) std::fprintf(stderr, "varsph: warning: %s: %s\n", s.file.string().c_str(), w.c_str());

@@ -19,6 +19,7 @@ struct CommandArgs {
   std::string run_a, run_b;  // compare
   std::vector<std::string> overrides;
   int threads = 0;
+  std::string device;  // run --device: execution.device override (cpu | cuda | cuda_emulation)
   bool overwrite = false, quiet = false;
   std::string state, paraview_exe;  // paraview
   std::vector<std::string> paraview_args;

@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
   run->add_option("-o,--output", args.output, "Run directory (default runs/NAME)");
   run->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE (VALUE as JSON), repeatable");
   run->add_option("--threads", args.threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
+  run->add_option("--device", args.device,
+                  "Where the steps run: cpu, cuda (an NVIDIA GPU), cuda_emulation (the CUDA backend's loops on the "
+                  "CPU, for tests); sets execution.device (docs/gpu.md)");
   run->add_option("--restart", args.restart, "Continue from a checkpoint .h5");
   run->add_flag("--overwrite", args.overwrite, "Replace an existing non-empty run directory");
   run->add_flag("--quiet", args.quiet, "Print only errors");

@@ -3,6 +3,8 @@
 #include <Eigen/Core>
 #include <cstdint>
 
+#include "core/host_device.hpp"
+
 namespace varsph {
 
 #ifdef VARSPH_REAL_FLOAT

@@ -29,9 +29,7 @@ double effective_viscosity(const Simulation<D>& sim) {
 
 template <int D>
 CflLimits cfl_limits(const Simulation<D>& sim) {
-  const auto& s = sim.scene();
   const auto& f = sim.fields();
-  CflLimits L;
   double vmax = 0, amax = 0;
   const long n = long(sim.size());
 #pragma omp parallel for schedule(static) reduction(max : vmax, amax)
@@ -40,8 +38,15 @@ CflLimits cfl_limits(const Simulation<D>& sim) {
     vmax = std::max(vmax, double(f.v[i].norm()));
     amax = std::max(amax, double(f.a[i].norm()));
   }
-  L.v_max = sim.global_max(vmax);  // over every rank: all ranks take the same dt
-  L.a_max = sim.global_max(amax);
+  return cfl_limits(sim, sim.global_max(vmax), sim.global_max(amax));  // over every rank: the same dt
+}
+
+template <int D>
+CflLimits cfl_limits(const Simulation<D>& sim, double vmax, double amax) {
+  const auto& s = sim.scene();
+  CflLimits L;
+  L.v_max = vmax;
+  L.a_max = amax;
   const double h = s.h;
   L.acoustic = s.cfl_acoustic * h / (s.c0 + L.v_max);                // Monaghan 1992
   if (L.a_max > 0) L.force = s.cfl_force * std::sqrt(h / L.a_max);   // Monaghan 1992
@@ -54,5 +59,7 @@ template double effective_viscosity<2>(const Simulation<2>&);
 template double effective_viscosity<3>(const Simulation<3>&);
 template CflLimits cfl_limits<2>(const Simulation<2>&);
 template CflLimits cfl_limits<3>(const Simulation<3>&);
+template CflLimits cfl_limits<2>(const Simulation<2>&, double, double);
+template CflLimits cfl_limits<3>(const Simulation<3>&, double, double);
 
 }  // namespace varsph

@@ -32,5 +32,8 @@ double effective_viscosity(const Simulation<D>& sim);
 
 template <int D>
 CflLimits cfl_limits(const Simulation<D>& sim);
+// The same limits for given largest fluid speed and acceleration (a device run reduces them there).
+template <int D>
+CflLimits cfl_limits(const Simulation<D>& sim, double v_max, double a_max);
 
 }  // namespace varsph

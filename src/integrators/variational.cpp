@@ -11,33 +11,18 @@
 #include "physics/passes.hpp"
 #include "parallel/communicator.hpp"
 #include "physics/repulsive_wall.hpp"
+#include "integrators/variational_passes.hpp"
 #include "physics/simd/isa.hpp"
 #include "physics/simd/vector_sweep.hpp"
 
 namespace varsph {
 namespace {
 
-// The repulsive boundary force alone, seed eq. (58) (x/r^2 form, see repulsive_wall.hpp), on fluid
-// particles from boundary particles, at the configuration of the view (q_k).
-template <int D>
-struct WallOnlyPass {
-  const physics::RepulsiveWall& wall;
-  const physics::ParticleView<D>& s;
-  Vec<D>* out;
-  Real support;
-  bool active(std::size_t i) const { return s.kind[i] == physics::kFluid; }
-  Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
-  void pair(Vec<D>& acc, std::size_t, std::size_t j, const Vec<D>& xij, Real r2) const {
-    if (s.kind[j] != physics::kFluid) acc += wall.factor(r2) * xij;  // eq. (58)
-  }
-  void end(std::size_t i, const Vec<D>& acc) const { out[i] = acc; }
-};
-
 }  // namespace
 }  // namespace varsph
 
-// The vectorised sweep runs WallOnlyPass as a walls-only pass: the candidate test in packs, the wall pairs
-// through the pass's own pair() (physics/simd/vector_sweep.hpp).
+// The vectorised sweep runs WallOnlyPass (integrators/variational_passes.hpp) as a walls-only pass: the
+// candidate test in packs, the wall pairs through the pass's own pair() (physics/simd/vector_sweep.hpp).
 namespace varsph::physics::simd {
 template <int D>
 struct FluidTerms<::varsph::WallOnlyPass<D>> {

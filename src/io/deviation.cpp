@@ -1,5 +1,7 @@
 #include "io/deviation.hpp"
 
+#ifdef VARSPH_HAVE_VTK
+
 #include <vtkCellArray.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
@@ -204,3 +206,18 @@ std::vector<DeviationRow> compare_runs(const CompareOptions& o) {
 }
 
 }  // namespace varsph::io
+
+#else  // a build without VTK writes frames (io/vtu_writer.cpp) but cannot read them back
+
+#include "core/errors.hpp"
+
+namespace varsph::io {
+
+std::vector<DeviationRow> compare_runs(const CompareOptions&) {
+  throw InputError("varsph compare reads frames with VTK, which this build does not have (configured without "
+                   "VTK: -DVARSPH_VTK=OFF or none found); compare the runs on a machine with VTK or ParaView");
+}
+
+}  // namespace varsph::io
+
+#endif

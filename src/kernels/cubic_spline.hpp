@@ -18,16 +18,16 @@ struct CubicSpline {
     if constexpr (D == 2) return 10.0 / (7.0 * std::numbers::pi * h * h);
     else return 1.0 / (std::numbers::pi * h * h * h);
   }
-  Real support() const { return Real(kappa) * h_; }
-  Real h() const { return h_; }
-  Real w_r2(Real r2) const {
+  VARSPH_HD Real support() const { return Real(kappa) * h_; }
+  VARSPH_HD Real h() const { return h_; }
+  VARSPH_HD Real w_r2(Real r2) const {
     const Real q = std::sqrt(r2) * inv_h_;
     if (q < Real(1)) return sigma_ * (Real(1) - Real(1.5) * q * q + Real(0.75) * q * q * q);
     const Real t = Real(2) - q;
     return q < Real(2) ? sigma_ * Real(0.25) * t * t * t : Real(0);
   }
   // dW/dr / r: dW/dq = s(-3q + 2.25q^2) for q<1, -0.75 s (2-q)^2 for q<2; divide by h and by r = q h.
-  Real grad_factor_r2(Real r2) const {
+  VARSPH_HD Real grad_factor_r2(Real r2) const {
     const Real r = std::sqrt(r2);
     const Real q = r * inv_h_;
     if (q < Real(1)) return sigma_ * (Real(-3) + Real(2.25) * q) * inv_h_ * inv_h_;

@@ -24,12 +24,12 @@ struct Gaussian {
                     (std::erf(kappa) - 2.0 * kappa / std::sqrt(std::numbers::pi) * e9) * h * h * h);
   }
 
-  Real support() const { return Real(kappa) * h_; }
-  Real h() const { return h_; }
+  VARSPH_HD Real support() const { return Real(kappa) * h_; }
+  VARSPH_HD Real h() const { return h_; }
   // W as a function of r^2 (r <= support assumed by the caller's cut-off).
-  Real w_r2(Real r2) const { return sigma_ * std::exp(-r2 * inv_h2_); }
+  VARSPH_HD Real w_r2(Real r2) const { return sigma_ * std::exp(-r2 * inv_h2_); }
   // F(r) with grad_i W_ij = F * (x_i - x_j): dW/dr / r = -2/h^2 W (seed eq. 24 with R = r/h).
-  Real grad_factor_r2(Real r2) const { return Real(-2) * inv_h2_ * w_r2(r2); }
+  VARSPH_HD Real grad_factor_r2(Real r2) const { return Real(-2) * inv_h2_ * w_r2(r2); }
 
  private:
   Real h_, inv_h2_, sigma_;

@@ -14,10 +14,10 @@ struct PaperLiteral {
   static constexpr double kappa = 1.0;
 
   PaperLiteral(double h, double l) : h_(Real(h)), l_(Real(l)) {}
-  Real support() const { return h_; }
-  Real h() const { return h_; }
-  Real w_r2(Real r2) const { return l_ * std::exp(-r2); }
-  Real grad_factor_r2(Real r2) const { return Real(-2) * l_ * std::exp(-r2); }
+  VARSPH_HD Real support() const { return h_; }
+  VARSPH_HD Real h() const { return h_; }
+  VARSPH_HD Real w_r2(Real r2) const { return l_ * std::exp(-r2); }
+  VARSPH_HD Real grad_factor_r2(Real r2) const { return Real(-2) * l_ * std::exp(-r2); }
 
  private:
   Real h_, l_;

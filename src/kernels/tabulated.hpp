@@ -8,6 +8,30 @@
 
 namespace varsph::kernels {
 
+// Linear interpolation in a table of kIntervals + 2 nodes over u = r^2 * scale (the one formula both
+// the host class below and the device view use, so both give the same bits).
+VARSPH_HD inline Real table_lerp(const Real* t, Real scale, Real r2, int intervals) {
+  const Real u = r2 * scale;
+  int k = int(u);
+  if (k >= intervals) return Real(0);
+  const Real a = u - Real(k);
+  return t[k] + a * (t[k + 1] - t[k]);
+}
+
+// A Tabulated kernel seen through raw pointers (device memory in the CUDA backend, src/exec/): what a
+// pass needs from a kernel, trivially copyable into a device launch.
+template <int D>
+struct TableView {
+  Real support_, h_, scale_;
+  const Real* w_;
+  const Real* f_;
+  int intervals_;
+  VARSPH_HD Real support() const { return support_; }
+  VARSPH_HD Real h() const { return h_; }
+  VARSPH_HD Real w_r2(Real r2) const { return table_lerp(w_, scale_, r2, intervals_); }
+  VARSPH_HD Real grad_factor_r2(Real r2) const { return table_lerp(f_, scale_, r2, intervals_); }
+};
+
 template <int D>
 class Tabulated {
  public:
@@ -33,20 +57,17 @@ class Tabulated {
   }
   Real support() const { return support_; }
   Real h() const { return h_; }
-  Real w_r2(Real r2) const { return lerp(w_, r2); }
-  Real grad_factor_r2(Real r2) const { return lerp(f_, r2); }
+  Real w_r2(Real r2) const { return table_lerp(w_.data(), scale_, r2, kIntervals); }
+  Real grad_factor_r2(Real r2) const { return table_lerp(f_.data(), scale_, r2, kIntervals); }
+  // The tables (kIntervals + 2 nodes each) and a view of them at other addresses (a device copy).
+  const std::vector<Real>& w_values() const { return w_; }
+  const std::vector<Real>& f_values() const { return f_; }
+  TableView<D> view(const Real* w, const Real* f) const { return {support_, h_, scale_, w, f, kIntervals}; }
   // the F table and its scale, for the vectorised sweep (physics/simd/), which interpolates the same way
   const Real* f_table() const { return f_.data(); }
   Real table_scale() const { return scale_; }
 
  private:
-  Real lerp(const std::vector<Real>& t, Real r2) const {
-    const Real u = r2 * scale_;
-    int k = int(u);
-    if (k >= kIntervals) return Real(0);
-    const Real a = u - Real(k);
-    return t[k] + a * (t[k + 1] - t[k]);
-  }
   Real support_, h_, scale_;
   std::vector<Real> w_, f_;
 };

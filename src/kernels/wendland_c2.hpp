@@ -19,9 +19,9 @@ struct WendlandC2 {
     if constexpr (D == 2) return 7.0 / (4.0 * std::numbers::pi * h * h);
     else return 21.0 / (16.0 * std::numbers::pi * h * h * h);
   }
-  Real support() const { return Real(kappa) * h_; }
-  Real h() const { return h_; }
-  Real w_r2(Real r2) const {
+  VARSPH_HD Real support() const { return Real(kappa) * h_; }
+  VARSPH_HD Real h() const { return h_; }
+  VARSPH_HD Real w_r2(Real r2) const {
     const Real q = std::sqrt(r2) * inv_h_;
     if (q >= Real(2)) return Real(0);
     const Real t = Real(1) - Real(0.5) * q;
@@ -29,7 +29,7 @@ struct WendlandC2 {
     return sigma_ * t2 * t2 * (Real(2) * q + Real(1));
   }
   // dW/dq = -5 q (1 - q/2)^3 s; grad factor = dW/dq / (h r) = -5 s (1 - q/2)^3 / h^2.
-  Real grad_factor_r2(Real r2) const {
+  VARSPH_HD Real grad_factor_r2(Real r2) const {
     const Real q = std::sqrt(r2) * inv_h_;
     if (q >= Real(2)) return Real(0);
     const Real t = Real(1) - Real(0.5) * q;

@@ -19,7 +19,7 @@ struct ArtificialViscosity {
   ArtificialViscosity(Real alpha_, Real beta_, Real c0_, Real h_, Real eps = Real(0.01))
       : alpha(alpha_), beta(beta_), c0(c0_), h(h_), eps_h2(eps * h_ * h_) {}
   // Pi_ij (>= 0 for approaching pairs); vx = v_ij . x_ij
-  Real pi(Real vx, Real r2, Real rho_i, Real rho_j) const {
+  VARSPH_HD Real pi(Real vx, Real r2, Real rho_i, Real rho_j) const {
     if (vx >= Real(0)) return Real(0);
     const Real phi = h * vx / (r2 + eps_h2);
     return (-alpha * c0 * phi + beta * phi * phi) * Real(2) / (rho_i + rho_j);

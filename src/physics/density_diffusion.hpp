@@ -24,7 +24,7 @@ struct MolteniDiffusion {
   MolteniDiffusion(Real delta, Real h, Real c0) : coef(Real(2) * delta * h * c0) {}
   // Vj = m_j / rho_j, computed once per particle by the pass
   template <int D>
-  Real term(Real rho_i, Real rho_j, Real Vj, Real F, const Vec<D>&) const {
+  VARSPH_HD Real term(Real rho_i, Real rho_j, Real Vj, Real F, const Vec<D>&) const {
     return -coef * (rho_j - rho_i) * F * Vj;  // Molteni & Colagrossi 2009
   }
 };
@@ -39,7 +39,7 @@ struct FourtakasDiffusion {
   FourtakasDiffusion(Real delta, Real h, Real c0, Real rho0_, const Vec<D>& g_)
       : coef(Real(2) * delta * h * c0), rho0(rho0_), rho0_over_B(Real(7) / (c0 * c0)), g(g_) {}
   template <int DD>
-  Real term(Real rho_i, Real rho_j, Real Vj, Real F, const Vec<DD>& xij) const {
+  VARSPH_HD Real term(Real rho_i, Real rho_j, Real Vj, Real F, const Vec<DD>& xij) const {
     // hydrostatic density difference rho_j^H - rho_i^H for p_j^H - p_i^H = rho0 g . (x_j - x_i)
     const Real dp_over_B = rho0_over_B * (-g.dot(xij));  // rho0 g.x_ji / B with B = rho0 c0^2 / 7
     // (1 + a)^(1/7) - 1 by its series to a^3 (|a| = 7 g r / c0^2 << 1 within a kernel support; a^4 term < 1e-8 a)

@@ -9,19 +9,19 @@ struct TaitEos {
   Real rho0, B, inv_rho0, pb;
   TaitEos(Real rho0_, Real c0, Real background = Real(0))
       : rho0(rho0_), B(c0 * c0 * rho0_ / Real(7)), inv_rho0(Real(1) / rho0_), pb(background) {}
-  Real pressure(Real rho) const {
+  VARSPH_HD Real pressure(Real rho) const {
     const Real r = rho * inv_rho0;
     const Real r2 = r * r;
     const Real r7 = r2 * r2 * r2 * r;  // (rho/rho0)^7 by multiplications
     return B * (r7 - Real(1)) + pb;
   }
   // inverse, for hydrostatic initial densities: rho = rho0 (1 + p/B)^(1/7)
-  Real density(Real p) const;
+  VARSPH_HD Real density(Real p) const;
 };
 
 }  // namespace varsph::physics
 
 #include <cmath>
-inline varsph::Real varsph::physics::TaitEos::density(Real p) const {
+VARSPH_HD inline varsph::Real varsph::physics::TaitEos::density(Real p) const {
   return rho0 * std::pow(Real(1) + (p - pb) / B, Real(1) / Real(7));
 }

@@ -13,7 +13,7 @@ struct LaminarViscosity {
   Real nu, eps_h2;
   LaminarViscosity(Real nu_, Real h) : nu(nu_), eps_h2(Real(0.01) * h * h) {}
   // factor k with dv_i/dt += k v_ij for one pair; F = grad factor, m_j mass of j
-  Real laminar_factor(Real mj, Real F, Real r2, Real rho_i, Real rho_j) const {
+  VARSPH_HD Real laminar_factor(Real mj, Real F, Real r2, Real rho_i, Real rho_j) const {
     return mj * nu * (rho_i + rho_j) * F * r2 / (rho_i * rho_j * (r2 + eps_h2));  // Morris 1997 eq. (8)
   }
 };

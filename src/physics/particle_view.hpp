@@ -23,7 +23,7 @@ struct ParticleView {
   // Unit wall normals into the fluid (boundary particles), for the wall part of artificial viscosity
   // of extrapolated walls; empty = not used.
   std::span<const Vec<D>> normal = {};
-  std::size_t size() const { return x.size(); }
+  VARSPH_HD std::size_t size() const { return x.size(); }
 };
 
 }  // namespace varsph::physics

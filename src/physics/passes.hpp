@@ -42,15 +42,15 @@ struct DensityRatePass {
   Real* drho;
   Diffusion diff{};
   const Real* volume = nullptr;  // m_j / rho_j per particle (only read with density diffusion)
-  bool active(std::size_t i) const { return s.kind[i] == kFluid || walls_evolve_density<M>; }
-  Real begin(std::size_t) const { return Real(0); }
-  void pair(Real& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
+  VARSPH_HD bool active(std::size_t i) const { return s.kind[i] == kFluid || walls_evolve_density<M>; }
+  VARSPH_HD Real begin(std::size_t) const { return Real(0); }
+  VARSPH_HD void pair(Real& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     if constexpr (!walls_in_continuum<M>)
       if (s.kind[j] != kFluid) return;
     pair_F(acc, i, j, xij, W.grad_factor_r2(r2));
   }
   // The pair term given F (grad_i W_ij = F x_ij) for a neighbour in the continuum (FusedRatesPass).
-  void pair_F(Real& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real F) const {
+  VARSPH_HD void pair_F(Real& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real F) const {
     acc += s.mass[j] * F * (s.v[i] - s.v[j]).dot(xij);
     if constexpr (Diffusion::enabled) {
       if constexpr (Diffusion::uses_pressure) {  // Riemann-solver dissipation (physics/riemann.hpp)
@@ -64,7 +64,7 @@ struct DensityRatePass {
       }
     }
   }
-  void end(std::size_t i, Real acc) const { drho[i] = acc; }
+  VARSPH_HD void end(std::size_t i, Real acc) const { drho[i] = acc; }
 };
 
 // Summation density, seed eq. (8): rho_i = sum_j m_j W_ij (self term included).
@@ -73,14 +73,14 @@ struct SummationDensityPass {
   const Kernel& W;
   const ParticleView<D>& s;
   Real* rho;
-  bool active(std::size_t i) const { return s.kind[i] == kFluid || walls_evolve_density<M>; }
-  Real begin(std::size_t i) const { return s.mass[i] * W.w_r2(Real(0)); }
-  void pair(Real& acc, std::size_t, std::size_t j, const Vec<D>&, Real r2) const {
+  VARSPH_HD bool active(std::size_t i) const { return s.kind[i] == kFluid || walls_evolve_density<M>; }
+  VARSPH_HD Real begin(std::size_t i) const { return s.mass[i] * W.w_r2(Real(0)); }
+  VARSPH_HD void pair(Real& acc, std::size_t, std::size_t j, const Vec<D>&, Real r2) const {
     if constexpr (!walls_in_continuum<M>)
       if (s.kind[j] != kFluid) return;
     acc += s.mass[j] * W.w_r2(r2);
   }
-  void end(std::size_t i, Real acc) const { rho[i] = acc; }
+  VARSPH_HD void end(std::size_t i, Real acc) const { rho[i] = acc; }
 };
 
 // Acceleration of fluid particles: symmetric pressure term (seed eq. 38), the viscosity policy
@@ -103,9 +103,9 @@ struct AccelerationPass {
     Vec<D> a;
     Real p_over_rho2;
   };
-  bool active(std::size_t i) const { return s.kind[i] == kFluid; }
-  Acc begin(std::size_t i) const { return {Vec<D>::Zero(), p_over_rho2[i]}; }
-  void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
+  VARSPH_HD bool active(std::size_t i) const { return s.kind[i] == kFluid; }
+  VARSPH_HD Acc begin(std::size_t i) const { return {Vec<D>::Zero(), p_over_rho2[i]}; }
+  VARSPH_HD void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     if constexpr (M == BoundaryModel::Repulsive) {
       if (s.kind[j] != kFluid) {
         acc.a += wall.factor(r2) * xij;  // eq. (58)
@@ -115,7 +115,7 @@ struct AccelerationPass {
     pair_F(acc, i, j, xij, r2, W.grad_factor_r2(r2));  // grad_i W_ij = F x_ij
   }
   // The pair term given F for a fluid neighbour or a wall in the continuum (FusedRatesPass).
-  void pair_F(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2, Real F) const {
+  VARSPH_HD void pair_F(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2, Real F) const {
     const bool j_fluid = s.kind[j] == kFluid;
     if constexpr (M == BoundaryModel::SoftRepulsive)
       if (!j_fluid) acc.a += soft->factor(r2) * xij;  // Chalk 2020
@@ -141,7 +141,7 @@ struct AccelerationPass {
     }
     acc.a -= (s.mass[j] * coef * F) * xij;
   }
-  void end(std::size_t i, const Acc& acc) const { acc_out[i] = acc.a + gravity; }
+  VARSPH_HD void end(std::size_t i, const Acc& acc) const { acc_out[i] = acc.a + gravity; }
 };
 
 // Continuity and acceleration in one neighbour sweep (issue 9: "density and force passes fused where
@@ -157,12 +157,12 @@ struct FusedRatesPass {
     AccelAcc a;
     bool fluid;
   };
-  bool active(std::size_t i) const { return dens.active(i); }  // fluid, and dynamic walls
-  Acc begin(std::size_t i) const {
+  VARSPH_HD bool active(std::size_t i) const { return dens.active(i); }  // fluid, and dynamic walls
+  VARSPH_HD Acc begin(std::size_t i) const {
     const bool fluid = accel.active(i);
     return {dens.begin(i), fluid ? accel.begin(i) : AccelAcc{Vec<D>::Zero(), Real(0)}, fluid};
   }
-  void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
+  VARSPH_HD void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     if constexpr (AccelPass::model == BoundaryModel::Repulsive) {
       if (dens.s.kind[j] != kFluid) {  // not in the continuum: only the eq. (58) force
         if (acc.fluid) acc.a.a += accel.wall.factor(r2) * xij;
@@ -173,7 +173,7 @@ struct FusedRatesPass {
     dens.pair_F(acc.drho, i, j, xij, F);
     if (acc.fluid) accel.pair_F(acc.a, i, j, xij, r2, F);
   }
-  void end(std::size_t i, const Acc& acc) const {
+  VARSPH_HD void end(std::size_t i, const Acc& acc) const {
     dens.end(i, acc.drho);
     if (acc.fluid) accel.end(i, acc.a);
   }
@@ -188,15 +188,15 @@ struct BoundaryReactionPass {
   const AccPass& acc_pass;
   const ParticleView<D>& s;
   Vec<D>* force;
-  bool active(std::size_t b) const { return s.kind[b] != kFluid; }
-  Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
-  void pair(Vec<D>& f, std::size_t b, std::size_t i, const Vec<D>& x_bi, Real r2) const {
+  VARSPH_HD bool active(std::size_t b) const { return s.kind[b] != kFluid; }
+  VARSPH_HD Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
+  VARSPH_HD void pair(Vec<D>& f, std::size_t b, std::size_t i, const Vec<D>& x_bi, Real r2) const {
     if (s.kind[i] != kFluid) return;
     auto a = acc_pass.begin(i);
     acc_pass.pair(a, i, b, Vec<D>(-x_bi), r2);  // the term fluid i receives from b (x_ib = -x_bi)
     f -= s.mass[i] * a.a;
   }
-  void end(std::size_t b, const Vec<D>& f) const { force[b] = f; }
+  VARSPH_HD void end(std::size_t b, const Vec<D>& f) const { force[b] = f; }
 };
 
 // Monaghan (2000) artificial stress, added to existing accelerations (fluid-fluid pairs).
@@ -206,15 +206,15 @@ struct ArtificialStressPass {
   const ArtificialStress& as;
   const ParticleView<D>& s;
   Vec<D>* acc_out;
-  bool active(std::size_t i) const { return s.kind[i] == kFluid; }
-  Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
-  void pair(Vec<D>& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
+  VARSPH_HD bool active(std::size_t i) const { return s.kind[i] == kFluid; }
+  VARSPH_HD Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
+  VARSPH_HD void pair(Vec<D>& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     if (s.kind[j] != kFluid) return;
     const Real Rij = as.R(s.p[i], s.rho[i]) + as.R(s.p[j], s.rho[j]);
     if (Rij == Real(0)) return;
     acc -= (s.mass[j] * as.f_pow(W.w_r2(r2)) * Rij * W.grad_factor_r2(r2)) * xij;
   }
-  void end(std::size_t i, const Vec<D>& acc) const { acc_out[i] += acc; }
+  VARSPH_HD void end(std::size_t i, const Vec<D>& acc) const { acc_out[i] += acc; }
 };
 
 // XSPH velocity correction, Monaghan (1989): dx_i/dt = v_i + eps sum_j m_j / rho_ij (v_j - v_i) W_ij,
@@ -225,13 +225,13 @@ struct XsphPass {
   const ParticleView<D>& s;
   Real eps;
   Vec<D>* out;
-  bool active(std::size_t i) const { return s.kind[i] == kFluid; }
-  Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
-  void pair(Vec<D>& acc, std::size_t i, std::size_t j, const Vec<D>&, Real r2) const {
+  VARSPH_HD bool active(std::size_t i) const { return s.kind[i] == kFluid; }
+  VARSPH_HD Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
+  VARSPH_HD void pair(Vec<D>& acc, std::size_t i, std::size_t j, const Vec<D>&, Real r2) const {
     if (s.kind[j] != kFluid) return;
     acc += (Real(2) * s.mass[j] / (s.rho[i] + s.rho[j]) * W.w_r2(r2)) * (s.v[j] - s.v[i]);
   }
-  void end(std::size_t i, const Vec<D>& acc) const { out[i] = eps * acc; }
+  VARSPH_HD void end(std::size_t i, const Vec<D>& acc) const { out[i] = eps * acc; }
 };
 
 // Dummy-wall extrapolation of Adami, Hu & Adams (2012), eq. (27) and (22)-(23), on boundary particles w:
@@ -254,9 +254,9 @@ struct AdamiWallPass {
     Real sw, spw;
     Vec<D> srx, sv;
   };
-  bool active(std::size_t i) const { return s.kind[i] != kFluid; }
-  Acc begin(std::size_t) const { return {Real(0), Real(0), Vec<D>::Zero(), Vec<D>::Zero()}; }
-  void pair(Acc& acc, std::size_t, std::size_t j, const Vec<D>& xwf, Real r2) const {
+  VARSPH_HD bool active(std::size_t i) const { return s.kind[i] != kFluid; }
+  VARSPH_HD Acc begin(std::size_t) const { return {Real(0), Real(0), Vec<D>::Zero(), Vec<D>::Zero()}; }
+  VARSPH_HD void pair(Acc& acc, std::size_t, std::size_t j, const Vec<D>& xwf, Real r2) const {
     if (s.kind[j] != kFluid) return;
     const Real w = W.w_r2(r2);
     acc.sw += w;
@@ -264,7 +264,7 @@ struct AdamiWallPass {
     acc.srx += (s.rho[j] * w) * xwf;
     acc.sv += w * s.v[j];
   }
-  void end(std::size_t i, const Acc& acc) const {
+  VARSPH_HD void end(std::size_t i, const Acc& acc) const {
     const Vec<D> vwall = s.v[i];
     if (acc.sw <= Real(0)) {
       p_out[i] = Real(0);

@@ -13,7 +13,7 @@ struct RepulsiveWall {
   int n1, n2;
   RepulsiveWall(Real D_, Real r0_, int n1_, int n2_) : D(D_), r0(r0_), r0_2(r0_ * r0_), n1(n1_), n2(n2_) {}
   // factor f with acceleration f * x_ig (x_ig = x_i - x_g)
-  Real factor(Real r2) const {
+  VARSPH_HD Real factor(Real r2) const {
     if (r2 >= r0_2 || r2 <= Real(0)) return Real(0);
     const Real s2 = r0_2 / r2;  // (r0/r)^2
     Real p1, p2;

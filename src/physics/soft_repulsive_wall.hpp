@@ -15,7 +15,7 @@ struct SoftRepulsiveWall {
       : scale(coef * c0 * c0), r_chi(Real(1.5) * dx), r_chi2(r_chi * r_chi), inv_chi(Real(1) / r_chi),
         inv_gh(Real(1) / (Real(0.75) * h)) {}
   // factor f with acceleration f * x_ij
-  Real factor(Real r2) const {
+  VARSPH_HD Real factor(Real r2) const {
     if (r2 >= r_chi2 || r2 <= Real(0)) return Real(0);
     const Real r = std::sqrt(r2);
     const Real chi = Real(1) - r * inv_chi;

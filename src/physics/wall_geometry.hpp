@@ -12,7 +12,7 @@ struct WallGeometry {
   const Vec<D>* normal = nullptr;        // unit normal from the wall into the fluid (zero: unknown)
   const Real* distance = nullptr;        // distance to the interface along the normal [m] (mDBC only)
   const Vec<D>* acceleration = nullptr;  // a_w [m/s^2]; null: walls at rest or in uniform motion
-  Vec<D> accel(std::size_t i) const { return acceleration ? acceleration[i] : Vec<D>::Zero(); }
+  VARSPH_HD Vec<D> accel(std::size_t i) const { return acceleration ? acceleration[i] : Vec<D>::Zero(); }
 };
 
 }  // namespace varsph::physics

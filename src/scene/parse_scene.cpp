@@ -330,6 +330,9 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.rebalance_every = r.integer("parallel.rebalance_every", 0, 0, 1000000000000L);
   s.fluid_weight = int(r.integer("parallel.weights.fluid", 4, 1, 1000000));
   s.boundary_weight = int(r.integer("parallel.weights.boundary", 1, 0, 1000000));
+  // where the steps run (docs/gpu.md): the OpenMP host loops, a CUDA device, or the CUDA backend's
+  // loops through a host launch (tests, debugging)
+  s.device = r.choice("execution.device", "cpu", {"cpu", "cuda", "cuda_emulation"});
 
   r.check_unknown();
   s.resolved = r.resolved();

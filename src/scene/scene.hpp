@@ -142,6 +142,7 @@ struct Scene {
   long rebalance_every = 0;           // parallel.rebalance_every [steps]: repartition regardless, 0 = off
   int fluid_weight = 4;               // parallel.weights.fluid: partition weight of a fluid particle
   int boundary_weight = 1;            // parallel.weights.boundary
+  std::string device = "cpu";  // execution.device: cpu | cuda | cuda_emulation (docs/gpu.md)
 };
 
 // Parses and validates a scene file with --set overrides applied first (InputError on any problem).

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "core/errors.hpp"
+#include "exec/device_backend.hpp"
 
 namespace varsph {
 namespace {
@@ -44,7 +45,8 @@ bool in_snapshot(const FieldBase& f) { return f.flags().checkpointed || f.name()
 bool restart_may_change(const std::string& k) {
   return k == "time.end" || k == "particles.max_count" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
          starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
-         starts_with(k, "log.") || k == "parallel" || starts_with(k, "parallel.");
+         starts_with(k, "log.") || k == "parallel" || starts_with(k, "parallel.") || k == "execution" ||
+         starts_with(k, "execution.");  // cpu <-> cuda restarts
 }
 
 std::string first_physics_difference(const nlohmann::json& a, const nlohmann::json& b) {
@@ -130,6 +132,7 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
   sim.sort_and_bin();
   sim.set_dt(h.dt);
   sim.integrator().restore_state(h.integrator_state);
+  sim.host_state_changed();  // a device run continues from the restored store
 }
 
 template <int D>
@@ -155,8 +158,12 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
   const auto& fields = sim.store().fields();
   stored_ = sim.store().size();  // owned particles and, in a distributed run, ghosts
   owned_ = sim.size();
-  buffers_.resize(fields.size());
-  for (std::size_t k = 0; k < fields.size(); ++k) {
+  buffers_.resize(sim.on_device() ? 0 : fields.size());
+  if (sim.on_device()) {  // a device run keeps its copy on the device (no transfer per step)
+    sim.device()->snapshot_capture();
+    device_bytes_ = sim.device()->snapshot_bytes();
+  }
+  for (std::size_t k = 0; k < buffers_.size(); ++k) {
     const auto& f = fields[k];
     if (!in_snapshot(*f)) continue;
     const std::size_t n = f->bytes_per_particle() * f->size();
@@ -173,9 +180,10 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
 
 template <int D>
 void StateSnapshot<D>::restore(Simulation<D>& sim) const {
+  if (sim.on_device()) sim.device()->snapshot_restore();  // device runs remove no particles (docs/gpu.md)
   // particles removed after the capture (health.*) come back with the rest of the state; a distributed
   // step may have moved particles between ranks: back to the captured rows
-  sim.store().resize(stored_);
+  else sim.store().resize(stored_);
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
@@ -196,9 +204,10 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
 
 template <int D>
 long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
+  if (sim.on_device()) sim.device()->snapshot_restore();  // the device's own copy, binned there
   // particles removed after the capture come back; a distributed step may have moved particles
   // between ranks: back to the captured rows (owned first, ghosts after them)
-  sim.store().resize(stored_);
+  else sim.store().resize(stored_);
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
@@ -210,7 +219,7 @@ long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
   // the order of restore_from_checkpoint(): the arrays are in the captured step's cell order, and the
   // stable sort rebuilds its grid without moving them
   sim.set_clock(time_, step_);
-  sim.sort_and_bin();
+  if (!sim.on_device()) sim.sort_and_bin();
   sim.set_dt(dt_);
   sim.integrator().restore_state(integrator_state_);
   long replayed = 0;
@@ -220,7 +229,7 @@ long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
 
 template <int D>
 std::size_t StateSnapshot<D>::bytes() const {
-  std::size_t b = 0;
+  std::size_t b = device_bytes_;
   for (const auto& v : buffers_) b += v.size();
   return b;
 }

@@ -13,7 +13,8 @@
 namespace varsph {
 
 // Keys of the resolved scene that may differ between a checkpoint and the scene it is restarted with
-// (CONTRACT.md "Restart"): time.end, output.*, checkpoint.*, probes, log.*.
+// (CONTRACT.md "Restart"): time.end, output.*, checkpoint.*, probes, log.*, execution.* (a GPU run continues
+// on the CPU and back).
 bool restart_may_change(const std::string& dotted_key);
 
 // The first key (dotted, in sorted order) whose value differs between two resolved scenes, ignoring
@@ -51,6 +52,7 @@ class StateSnapshot {
 
  private:
   std::vector<std::vector<std::byte>> buffers_;
+  std::size_t device_bytes_ = 0;  // a device run's copy lives on the device
   double time_ = 0, dt_ = 0;
   long step_ = 0;
   std::size_t stored_ = 0, owned_ = 0;

@@ -14,6 +14,7 @@
 #include <omp.h>
 
 #include "core/errors.hpp"
+#include "exec/device_run.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/csv_table.hpp"
@@ -127,6 +128,10 @@ class Runner {
     warn_dt_bound(sim.dt(), sim.integrator().dt_bound(), 0);  // on the initial state (eq. 54 estimate)
     while (sim.time() < scene_.t_end - 0.5 * sim.dt()) {
       capture_last_good(sim);
+      if (deferred_.frame || deferred_.checkpoint) {  // the last step's outputs go to the host during this one
+        sim.device()->begin_snapshot_download();
+        deferred_.started = true;
+      }
       StepReport rep;
       try {
         const auto t_step = clock::now();
@@ -135,35 +140,45 @@ class Runner {
       } catch (const NumericalError& e) {  // e.g. a fixed point that did not converge (on_failure = fail)
         // the integrator left the state at the last accepted step: write it as the last good frame and
         // checkpoint
+        flush_deferred(sim);
         if (!last_frame_at_current_) write_frame(sim);
         const std::string cp = write_checkpoint(sim);
         failure = std::string(e.what()) + ". The last good frame is " + last_frame_name_ + ", checkpoint " + cp;
         exit_code = kExitNumerical;
         break;
       }
+      flush_deferred(sim);  // writes the previous step's frame / checkpoint (device runs)
       accumulate(rep);
       warn_dt_bound(sim.dt(), rep.dt_bound, sim.step());
       last_frame_at_current_ = false;
-      if (const std::string bad = health_.after_step(sim); !bad.empty()) {  // agreed by every rank
+      // device runs keep the strict check (a violation stops the run; no removal on the device: docs/gpu.md)
+      if (const std::string bad = sim.on_device() ? exec::check_device_health(sim) : health_.after_step(sim); !bad.empty()) {  // agreed by every rank
         failure = handle_blow_up(sim, bad);
         exit_code = kExitNumerical;
         break;
       }
       if (!health_.last_removed().empty()) write_removed();
       if (sim.time() >= next_frame_ - 0.5 * sim.dt()) {
-        write_frame(sim);
+        if (deferrable(sim)) defer(sim, /*frame=*/true);
+        else write_frame(sim);
         while (next_frame_ <= sim.time() + 0.5 * sim.dt()) next_frame_ += scene_.output_every;
       }
       // point queries (pressure probes) read ghosts: their density and pressure are the owners' of the
       // last pass, not of the step's end (one exchange per step, distributed runs with probes only)
       if (!probes.empty() && sim.distributed()) sim.refresh_halo(sim.current_view());
-      if (!probes.empty()) probes.accumulate(sim);  // load probes integrate over their interval
+      if (!probes.empty()) {  // load probes integrate over their interval
+        if (sim.on_device() && has_load_probes()) sim.sync_host();  // they read the state every step
+        probes.accumulate(sim);
+      }
       if (!probes.empty() && sim.time() >= next_probe_ - 0.5 * sim.dt()) {
         write_probes(sim, probes);
         if (scene_.probes_every > 0)
           while (next_probe_ <= sim.time() + 0.5 * sim.dt()) next_probe_ += scene_.probes_every;
       }
-      if (checkpoint_due(sim)) write_checkpoint(sim);
+      if (checkpoint_due(sim)) {
+        if (deferrable(sim)) defer(sim, /*frame=*/false);
+        else write_checkpoint(sim);
+      }
       const double wall = seconds_since(t0_);
       if (tty) {
         const double rate = double(sim.step() - start_step) / std::max(wall, 1e-9);
@@ -180,6 +195,7 @@ class Runner {
       // a signal on any rank stops every rank after the same step
       if (const int sig = comm_->size() > 1 ? int(comm_->max(double(g_signal))) : int(g_signal)) {
         // the step is finished: write a frame and a checkpoint of it, then stop
+        flush_deferred(sim);
         if (!last_frame_at_current_) write_frame(sim);
         const std::string cp = write_checkpoint(sim);
         failure = std::string("stopped by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM") + " at step " +
@@ -189,6 +205,7 @@ class Runner {
         break;
       }
     }
+    flush_deferred(sim);
     if (exit_code == kExitOk) {
       if (!last_frame_at_current_) write_frame(sim);
       write_checkpoint(sim);
@@ -296,6 +313,12 @@ class Runner {
     }
   }
 
+  // pressure and force probes read the state every step (Probes::accumulate)
+  bool has_load_probes() const {
+    for (const auto& p : scene_.probes)
+      if (p.is_object() && (p.value("type", "") == "pressure" || p.value("type", "") == "force")) return true;
+    return false;
+  }
   nlohmann::json runner_state() const {
     nlohmann::json j = runner_clock_state();
     if (probes_ && !probes_->empty()) j["probe_window"] = probes_->save_state();
@@ -341,15 +364,54 @@ class Runner {
     const bool exists = comm_->size() > 1 ? comm_->max(std::filesystem::exists(path) ? 1.0 : 0.0) > 0
                                           : std::filesystem::exists(path);
     if (last_checkpoint_step_ != sim.step() || !exists) {
-      parallel::write_checkpoint(*comm_, path, checkpoint_header(sim, runner_state()), sim.store(), sim.size());
-      last_checkpoint_step_ = sim.step();
+      sim.sync_host();  // a device run's state into the store
+      write_checkpoint_of(sim, checkpoint_header(sim, runner_state()));
+    }
+    return path.string();
+  }
+  // The store as it is, under `h` (its step names the file); keeps the last two. Collective.
+  void write_checkpoint_of(Simulation<D>& sim, const io::CheckpointHeader& h) {
+    const auto path = dir_.checkpoints() / io::checkpoint_file_name(h.step);
+    {
+      parallel::write_checkpoint(*comm_, path, h, sim.store(), sim.size());
+      last_checkpoint_step_ = h.step;
       last_checkpoint_wall_ = std::chrono::steady_clock::now();
       if (root_) {
         auto all = io::list_checkpoints(dir_.checkpoints());
         for (std::size_t k = 0; k + 2 < all.size(); ++k) io::remove_checkpoint(all[k].second);
       }
     }
-    return path.string();
+  }
+
+  // --- device runs: a step's frame and checkpoint are copied to the host while the next step runs ------
+  // (the runner's last-good copy on the device holds exactly that state during the next step;
+  // docs/gpu.md). Frames whose fields are all checkpointed qualify; others are downloaded at once.
+  bool deferrable(const Simulation<D>& sim) const {
+    if (!sim.on_device()) return false;
+    for (const auto& name : scene_.output_fields)
+      if (const FieldBase* f = sim.store().find(name); !f || !f->flags().checkpointed) return false;
+    return true;
+  }
+  void defer(Simulation<D>& sim, bool frame) {
+    if (frame) {
+      deferred_.frame = true;
+      deferred_.frame_index = frame_index_++;  // reserved now: checkpoints of this step count it
+      deferred_.time = sim.time();
+      deferred_.step = sim.step();
+      deferred_.dt = sim.dt();
+    } else {
+      deferred_.checkpoint = true;
+      deferred_.header = checkpoint_header(sim, runner_state());
+    }
+  }
+  void flush_deferred(Simulation<D>& sim) {
+    if (!deferred_.frame && !deferred_.checkpoint) return;
+    if (deferred_.started) sim.device()->finish_snapshot_download();
+    else sim.sync_host();  // still the same step: the current state is the deferred one
+    Deferred d = std::move(deferred_);
+    deferred_ = {};
+    if (d.frame) write_frame_at(sim, d.frame_index, d.time, d.step, d.dt);
+    if (d.checkpoint) write_checkpoint_of(sim, d.header);
   }
 
   // --- blow-up handling ---------------------------------------------------------------------------
@@ -357,8 +419,10 @@ class Runner {
   // timings.last_good_copy_seconds); a failing step is undone by restoring the copy and replaying the
   // steps after it, which reproduces the last good step exactly (StateSnapshot::replay_to).
   static constexpr long kLastGoodEvery = 100;
+  // Device runs copy on the device every step (cheap there): the deferred outputs download that copy.
   void capture_last_good(Simulation<D>& sim) {
-    if (last_good_.valid() && sim.step() - last_good_.step() < kLastGoodEvery && sim.step() >= last_good_.step())
+    if (!sim.on_device() && last_good_.valid() && sim.step() - last_good_.step() < kLastGoodEvery &&
+        sim.step() >= last_good_.step())
       return;
     const auto t = std::chrono::steady_clock::now();
     last_good_.capture(sim, runner_state());
@@ -412,7 +476,9 @@ class Runner {
   }
 
   // --- per-frame and per-sample output ------------------------------------------------------------
-  void write_probes(const Simulation<D>& sim, Probes<D>& probes) {
+  void write_probes(Simulation<D>& sim, Probes<D>& probes) {
+    flush_deferred(sim);
+    sim.sync_host();  // probes read the store (a device run copies its state back first)
     std::vector<std::string> row = {io::CsvTable::num(sim.time())};
     for (double v : probes.sample(sim)) row.push_back(io::CsvTable::num(v));  // collective
     on_root([&] { probes_csv_.row(row); });
@@ -438,18 +504,25 @@ class Runner {
   }
 
   void write_frame(Simulation<D>& sim) {
+    sim.sync_host();  // a device run's state into the store
     const long index = frame_index_++;
+    write_frame_at(sim, index, sim.time(), sim.step(), sim.dt());
+  }
+  // Frame `index` and its diagnostics row from the store, which holds the state of (time, step, dt).
+  void write_frame_at(Simulation<D>& sim, long index, double time, long step, double dt) {
     io::FrameData fd = frame_from(sim, scene_.output_fields, scene_.output_precision == "float64");
+    fd.time = time;
+    fd.step = step;
     fd.count = sim.size();  // owned particles (a piece per rank when distributed)
     const std::string rel = parallel::write_frame(*comm_, dir_, index, fd);
-    on_root([&] { pvd_->add(io::frame_time_label(sim.time(), scene_.output_every), rel); });
+    on_root([&] { pvd_->add(io::frame_time_label(time, scene_.output_every), rel); });  // the deferred frame's time
     last_frame_name_ = dir_.frame_relative(index);
     last_frame_at_current_ = true;
-    last_frame_step_ = sim.step();
+    last_frame_step_ = step;
     const Diagnostics d = compute_diagnostics(sim);
     using io::CsvTable;
     std::vector<std::string> row = {
-        CsvTable::num(index), CsvTable::num(sim.step()), CsvTable::num(sim.time()), CsvTable::num(sim.dt()),
+        CsvTable::num(index), CsvTable::num(step), CsvTable::num(time), CsvTable::num(dt),
         CsvTable::num(d.momentum[0]), CsvTable::num(d.momentum[1]), CsvTable::num(d.momentum[2]),
         CsvTable::num(d.momentum_Q), CsvTable::num(d.angular_momentum), CsvTable::num(d.kinetic_energy),
         CsvTable::num(d.potential_energy), CsvTable::num(d.internal_energy), CsvTable::num(d.max_speed),
@@ -555,6 +628,13 @@ class Runner {
   std::chrono::steady_clock::time_point t0_;
   long frame_index_ = 0, steps_ = 0;
   bool last_frame_at_current_ = false;
+  struct Deferred {
+    bool frame = false, checkpoint = false, started = false;
+    long frame_index = 0, step = 0;
+    double time = 0, dt = 0;
+    io::CheckpointHeader header;
+  };
+  Deferred deferred_;  // device runs: the outputs of the last step, written during the next
   bool warned_dt_bound_ = false;
   double particle_steps_ = 0;
   long fp_steps_ = 0, fp_iter_sum_ = 0;

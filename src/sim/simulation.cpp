@@ -8,6 +8,7 @@
 #include "parallel/communicator.hpp"
 #include "parallel/domain.hpp"
 #include "parallel/halo_rates.hpp"
+#include "exec/device_run.hpp"
 #include "physics/pair_loop.hpp"
 #include "integrators/time_step_control.hpp"
 #include "physics/corrections/corrections.hpp"
@@ -84,6 +85,7 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     : scene_(scene), f_(store_), params_(params_from<D>(scene)), eos_(Real(scene.rho0), Real(scene.c0), Real(scene.background_pressure)),
       comm_(comm ? std::move(comm) : std::make_shared<parallel::SerialCommunicator>()) {
   if (scene.dimension != D) throw std::logic_error("scene dimension does not match Simulation<D>");
+  exec::check_device_scene(scene);  // a device this build or machine lacks, or a term not on it: exit 2 now
   rates_ = physics::make_rates<D>(params_);
 
   InitialParticles<D> init = build_particles<D>(scene, double(eos_.B));
@@ -126,6 +128,9 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
       wall_acc_ = &store_.add<Vec<D>>("wall_acceleration", {.exported = false});
   }
   integrator_ = make_integrator<D>(scene);
+  if (comm_->size() > 1 && scene.device != "cpu")
+    throw InputError(scene.file.string() + ": execution.device = \"" + scene.device + "\" is not available on several "
+                     "MPI ranks yet (docs/parallel.md, Limits); run it in one process or on the CPU");
   if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
     // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
     throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
@@ -164,10 +169,39 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
   update_pressure();
   dt_ = scene.dt ? *scene.dt : cfl_dt();
   integrator_->initialize(*this);
+  if (scene.device != "cpu") {  // initialised on the host, then stepped on the device
+    device_ = std::make_unique<exec::DeviceRun<D>>(*this, std::move(integrator_));
+    integrator_ = device_->take_integrator();
+  }
 }
 
 template <int D>
 Simulation<D>::~Simulation() = default;
+
+template <int D>
+exec::DeviceBackend<D>* Simulation<D>::device() {
+  return device_ ? &device_->backend() : nullptr;
+}
+
+template <int D>
+void Simulation<D>::sync_host() {
+  if (!device_ || !device_->backend().device_ahead()) return;
+  device_->backend().download();
+  // the host grid for the downloaded positions: binned on the device by the same keys and a stable sort,
+  // so the host sort keeps every particle where it is (permuted only if it does not)
+  grid_.build(std::span<const Vec<D>>(f_.x.data), perm_);
+  for (std::size_t k = 0; k < perm_.size(); ++k)
+    if (perm_[k] != k) {
+      store_.permute(perm_);
+      device_->backend().upload();  // keep the two orders equal
+      break;
+    }
+}
+
+template <int D>
+void Simulation<D>::host_state_changed() {
+  if (device_) device_->backend().upload();
+}
 
 template <int D>
 std::size_t Simulation<D>::ghosts() const {

@@ -29,6 +29,12 @@ class Domain;
 
 template <int D>
 class Simulation;
+namespace exec {
+template <int D>
+class DeviceRun;
+template <int D>
+class DeviceBackend;
+}  // namespace exec
 
 // Per-step integrator statistics (the fixed-point columns of diagnostics.csv for implicit schemes).
 struct StepReport {
@@ -132,6 +138,18 @@ class Simulation {
   void reinitialise_density();
   // Restores time/step counters (restart).
   void set_clock(double time, long step) { time_ = time; step_ = step; }
+  const std::vector<Field<Vec<D>>*>& position_like() const { return position_like_; }
+
+  // --- execution backend (execution.device; src/exec/, docs/gpu.md) --------------------------------
+  // A device run keeps the particle state on the device between steps; the store is its host copy,
+  // current only after sync_host(). Without a device these are no-ops.
+  bool on_device() const { return device_ != nullptr; }
+  exec::DeviceBackend<D>* device();
+  // Copies a device run's state into the store (when the device is ahead) and bins it on the host, so
+  // the store, grid and rates can be read as in a CPU run (frames, probes, checkpoints, diagnostics).
+  void sync_host();
+  // The store was written on the host (restart from a checkpoint): send it to the device.
+  void host_state_changed();
 
   // --- distributed runs (src/parallel/; in one process these are identities) -----------------------
   // Integrators and output reduce through these instead of calling MPI: every rank gets the result.
@@ -176,6 +194,7 @@ class Simulation {
   NeighborGrid<D> grid_;
   std::unique_ptr<physics::Rates<D>> rates_;
   std::unique_ptr<Integrator<D>> integrator_;
+  std::unique_ptr<exec::DeviceRun<D>> device_;  // execution.device != "cpu"
   std::unique_ptr<BoundaryMotion<D>> motion_;  // prescribed motion of boundary bodies (inactive if none)
   std::vector<Field<Vec<D>>*> position_like_;
   Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls / mDBC: velocity boundary particles show to viscosity
