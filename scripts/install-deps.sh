@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs the build and run dependencies from Debian 12 packages (ParaView's own VTK, CGAL, HDF5, ...).
+# OpenMPI: the MPI domain decomposition (docs/parallel.md; a build without it stays serial).
 # Do not add libvtk9-dev: it pulls python3-vtk9, which conflicts with python3-paraview (pvpython).
 set -euo pipefail
 SUDO=""
@@ -8,7 +9,8 @@ export DEBIAN_FRONTEND=noninteractive
 PACKAGES=(build-essential cmake ninja-build git
           paraview paraview-dev python3-paraview python3-matplotlib xvfb
           libcgal-dev libhdf5-dev libeigen3-dev libgtest-dev libbenchmark-dev
-          libcli11-dev nlohmann-json3-dev libtbb-dev)
+          libcli11-dev nlohmann-json3-dev libtbb-dev
+          libopenmpi-dev openmpi-bin)
 # sanitizer + libFuzzer stage (scripts/fuzz_smoke.sh): clang and its runtimes, without the recommended
 # llvm-14-dev (saves ~150 MB of downloads)
 LEAN_PACKAGES=(clang-14 libclang-rt-14-dev)

@@ -1,8 +1,10 @@
 #pragma once
 // The subcommands of `varsph`, each in its own file.
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "parallel/communicator.hpp"
 #include "study/study_options.hpp"
 
 namespace CLI {
@@ -22,6 +24,7 @@ struct CommandArgs {
   std::string state, paraview_exe;  // paraview
   std::vector<std::string> paraview_args;
   bool dry_run = false;             // paraview
+  std::shared_ptr<parallel::Communicator> comm;  // all ranks of the run (one: the serial program)
 };
 
 int command_run(const CommandArgs& a);

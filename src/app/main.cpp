@@ -9,9 +9,14 @@
 
 #include "app/commands.hpp"
 #include "core/errors.hpp"
+#include "parallel/collective.hpp"
+#include "parallel/session.hpp"
 
 int main(int argc, char** argv) {
   using namespace varsph;
+  // MPI only when an MPI launcher started us (parallel/session.hpp); otherwise the serial program
+  parallel::Session session(argc, argv);
+  const bool root = session.world()->root();
   CLI::App app{"varsph: weakly-compressible SPH with variational time integration.\n"
                "Scenes are JSON files (docs/scene.md); results are VTU/PVD for ParaView."};
   app.set_version_flag("--version", std::string("varsph ") + VARSPH_VERSION + " (" + VARSPH_REAL_NAME + ")");
@@ -19,6 +24,7 @@ int main(int argc, char** argv) {
 
   CommandArgs args;
   args.argv.assign(argv, argv + argc);
+  args.comm = session.world();
 
   auto* run = app.add_subcommand("run", "Run a scene; writes DIR/NAME.pvd, frames/, diagnostics.csv, run.json");
   run->add_option("scene", args.scene, "Scene file (JSON)")->required();
@@ -72,12 +78,28 @@ int main(int argc, char** argv) {
       }
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
+  } catch (const CLI::ParseError& e) {  // every rank parses the same command line; rank 0 reports
+    const int code = root ? app.exit(e) : (e.get_exit_code() == 0 ? 0 : 1);
     return code == 0 ? kExitOk : kExitInput;
   }
+  // An error every rank agreed on (parallel/collective.hpp) is reported once and ends every rank
+  // normally; one that reached main on some ranks only ends all of them at once (MPI_Abort), so that
+  // none is left waiting for the others.
+  auto fail = [&](int code, const char* what, const char* message) {
+    const bool agreed = !session.distributed() || parallel::agreed_failure();
+    if (root || !agreed) {
+      if (session.distributed() && !agreed)
+        std::fprintf(stderr, "varsph: rank %d: %s: %s\n", session.world()->rank(), what, message);
+      else
+        std::fprintf(stderr, "varsph: %s: %s\n", what, message);
+    }
+    if (!agreed) session.abort(code);
+    return code;
+  };
   try {
     if (*run) return command_run(args);
+    // the other commands read and write single files: rank 0 does them alone
+    if (!root) return kExitOk;
     if (*info) return command_info(args);
     if (*sample) return command_sample(args);
     if (*compare) return command_compare(args);
@@ -87,17 +109,13 @@ int main(int argc, char** argv) {
     }
     if (*paraview) return command_paraview(args);
   } catch (const InputError& e) {
-    std::fprintf(stderr, "varsph: error: %s\n", e.what());
-    return kExitInput;
+    return fail(kExitInput, "error", e.what());
   } catch (const NumericalError& e) {
-    std::fprintf(stderr, "varsph: numerical failure: %s\n", e.what());
-    return kExitNumerical;
+    return fail(kExitNumerical, "numerical failure", e.what());
   } catch (const IoError& e) {
-    std::fprintf(stderr, "varsph: I/O error: %s\n", e.what());
-    return kExitIo;
+    return fail(kExitIo, "I/O error", e.what());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "varsph: internal error (please report): %s\n", e.what());
-    return kExitInternal;
+    return fail(kExitInternal, "internal error (please report)", e.what());
   }
   return kExitInternal;
 }

@@ -38,7 +38,7 @@ CflLimits cfl_limits(const Simulation<D>& sim) {
     vmax = std::max(vmax, double(f.v[i].norm()));
     amax = std::max(amax, double(f.a[i].norm()));
   }
-  return cfl_limits(sim, vmax, amax);
+  return cfl_limits(sim, sim.global_max(vmax), sim.global_max(amax));  // over every rank: the same dt
 }
 
 template <int D>

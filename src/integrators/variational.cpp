@@ -9,6 +9,7 @@
 #include "core/errors.hpp"
 #include "physics/pair_loop.hpp"
 #include "physics/passes.hpp"
+#include "parallel/communicator.hpp"
 #include "physics/repulsive_wall.hpp"
 #include "integrators/variational_passes.hpp"
 #include "physics/simd/isa.hpp"
@@ -97,9 +98,9 @@ void VariationalIntegrator<D>::initialize(Simulation<D>& sim) {
     // alpha = 0 explicit: a1 sits at q_k like Gamma_k, so the wall force stays in the same pass; the
     // step is then the Verlet step with summation density, bit for bit.
     has_wall_ = false;
-    fluid_rates_ = physics::make_rates<D>(p);
+    fluid_rates_ = sim.make_rates(p);  // (with the halo exchange of a distributed run)
   } else {
-    fluid_rates_ = physics::make_rates<D>(without_wall(p));
+    fluid_rates_ = sim.make_rates(without_wall(p));
   }
   if (has_wall_) wall_ = std::make_unique<physics::RepulsiveWall>(p.wall_D, p.wall_r0, p.wall_n1, p.wall_n2);
   // Skin: 5 % of the support radius to start; ensure_skin() widens it whenever a configuration to be
@@ -144,6 +145,7 @@ Real VariationalIntegrator<D>::make_midpoint(Simulation<D>& sim, std::span<const
     for (long i = 0; i < nn; ++i)
       if (kind[i] == 0) vmax = std::max(vmax, vv[i].squaredNorm());
   }
+  vmax = Real(sim.global_max(double(vmax)));  // every rank widens the skin together
   const Real shift = std::abs(s) * std::sqrt(vmax);
   if (!std::isfinite(shift) || !ensure_skin(sim, shift)) return -1;
   Vec<D>* m = mid_->data.data();
@@ -185,6 +187,7 @@ template <int D>
 void VariationalIntegrator<D>::compute_gamma(Simulation<D>& sim) {
   if (!has_wall_) return;
   const auto view = sim.current_view();
+  sim.refresh_halo(view);  // distributed runs: ghosts at q_k
   if (on_evaluation) on_evaluation(sim.grid(), sim.fields().x.data);
   WallOnlyPass<D> pass{*wall_, view, gamma_->data.data(), sim.rates().support()};
   if (!physics::simd::vector_sweep<D>(isa_, sim.grid(), pass))
@@ -271,6 +274,7 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
       for (long i = 0; i < nn; ++i)
         if (kind[i] == 0) r2 = std::max(r2, double((vn[i] - vo[i]).squaredNorm()));
     }
+    r2 = sim.global_max(r2);  // the convergence test over every rank's particles
     const double r = double(dt) * std::sqrt(r2);  // max_i |q_{k+1;j} - q_{k+1;j-1}|
     residuals_.push_back(r);
     const double c = (j > 1 && prev > 0) ? r / prev : 0.0;
@@ -326,7 +330,8 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
     ++halvings_;
     steps_since_change_ = 0;
     const double dt_new = dt / 2;
-    std::fprintf(stderr, "varsph: variational: %s%s; halving dt to %.4g s\n", where.c_str(), history.c_str(), dt_new);
+    if (sim.comm().root())  // every rank takes the same decision: one message
+      std::fprintf(stderr, "varsph: variational: %s%s; halving dt to %.4g s\n", where.c_str(), history.c_str(), dt_new);
     rebuild_previous(sim, dt, dt_new);
     dt = dt_new;
     dt_prev_ = dt;
@@ -367,8 +372,9 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
   if (halvings_ > 0 && ++steps_since_change_ >= kRegrowAfter) {
     --halvings_;  // the next step sees dt != dt_prev_ and rebuilds the previous interval
     steps_since_change_ = 0;
-    std::fprintf(stderr, "varsph: variational: growing dt back to %.4g s at t = %g s\n",
-                 sim.choose_dt() / double(1L << halvings_), sim.time() + dt);
+    const double next_dt = sim.choose_dt() / double(1L << halvings_);  // collective (CFL maxima)
+    if (sim.comm().root())
+      std::fprintf(stderr, "varsph: variational: growing dt back to %.4g s at t = %g s\n", next_dt, sim.time() + dt);
   }
   return rep;
 }
@@ -384,14 +390,15 @@ double VariationalIntegrator<D>::estimate_contraction(Simulation<D>& sim) {
     Real vmax = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (f.kind[i] == 0) vmax = std::max(vmax, (f.v[i] + dt * (a2_->data[i] + gamma_->data[i])).norm());
+    vmax = Real(sim.global_max(double(vmax)));
     if (!ensure_skin(sim, Real(1.1) * Real(alpha_) * dt * vmax + Real(1e-9) * Real(sim.scene().spacing))) return 0;
   }
   std::vector<Vec<D>> v0(n), base(n), dir(n);  // setup-time only
   for (std::size_t i = 0; i < n; ++i)
     v0[i] = f.kind[i] == 0 ? Vec<D>(f.v[i] + dt * (a2_->data[i] + gamma_->data[i])) : f.v[i];
-  vit_->data = v0;
+  std::copy(v0.begin(), v0.end(), vit_->data.begin());  // keeps the field's ghost slots
   if (!apply_F(sim, dt, vit_->data, vnew_->data.data())) return 0;
-  base = vnew_->data;
+  std::copy(vnew_->data.begin(), vnew_->data.begin() + std::ptrdiff_t(n), base.begin());
   // power iteration on d -> F(q + d) - F(q) in the max norm; deterministic start
   const Real eps = Real(1e-6) * Real(sim.scene().spacing) / dt;  // velocity perturbation (dt eps = 1e-6 dx)
   for (std::size_t i = 0; i < n; ++i) {
@@ -411,6 +418,8 @@ double VariationalIntegrator<D>::estimate_contraction(Simulation<D>& sim) {
       dir[i] = vnew_->data[i] - base[i];
       omax = std::max(omax, double(dir[i].norm()));
     }
+    dmax = sim.global_max(dmax);
+    omax = sim.global_max(omax);
     c = dmax > 0 ? omax / dmax : 0;
     if (omax <= 0) break;
     for (auto& d : dir) d *= Real(double(eps) / omax);
@@ -430,7 +439,7 @@ void VariationalIntegrator<D>::fresh_a2(Simulation<D>& sim, std::vector<Vec<D>>&
   // midpoint q_k - (1-alpha) dt v_{k-1/2}, continuity base rho_{k-2,k-1} is not kept, so the density
   // comes from the stored rho_{k-1,k} (summation scenes recompute it).
   auto& f = sim.fields();
-  out.resize(sim.size());
+  out.resize(sim.store().size());  // passes may write ghost slots of the output
   if (make_midpoint(sim, f.v.data, Real(-(1 - alpha_) * dt_prev_)) < 0) throw NumericalError("fresh_a2: skin");
   eval_midpoint(sim, f.v.data, Real(0), out.data());
 }

@@ -20,6 +20,7 @@ namespace varsph::io {
 namespace {
 
 constexpr const char* kMagic = "varsph-checkpoint";
+constexpr const char* kPieceMagic = "varsph-checkpoint-piece";
 
 // Owns one HDF5 identifier (closed through the generic reference count).
 class Handle {
@@ -168,8 +169,17 @@ struct Writer {
   }
 };
 
-void write_file(const std::filesystem::path& tmp, const std::string& shown, const CheckpointHeader& h,
-                const ParticleStore& store) {
+// What one HDF5 file of a checkpoint holds: a whole checkpoint (header and particles), the manifest of
+// a checkpoint in pieces (header and the particle count of every piece) or one piece (particles).
+struct FileContent {
+  const CheckpointHeader* header = nullptr;         // whole checkpoint or manifest
+  const ParticleStore* store = nullptr;             // field list (and particles unless a manifest)
+  std::size_t count = 0;                            // particle rows written from the store
+  const std::vector<std::int64_t>* pieces = nullptr;  // manifest: particles per piece
+  int piece = -1;                                   // piece: its number
+};
+
+void write_file(const std::filesystem::path& tmp, const std::string& shown, const FileContent& c) {
   silence_hdf5();
   const Writer w{shown};
   Handle fapl(w.check_id(H5Pcreate(H5P_FILE_ACCESS), "file properties"));
@@ -180,48 +190,70 @@ void write_file(const std::filesystem::path& tmp, const std::string& shown, cons
   const hid_t fid = H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
   if (fid < 0) w.fail("cannot create " + tmp.string());
   try {
-    {
-      const hid_t root = fid;
+    const hid_t root = fid;
+    const ParticleStore& store = *c.store;
+    Digest digest;  // content_digest: what the reader will see of this file, in its order
+    std::string order;
+    for (const auto& f : store.fields())
+      if (f->flags().checkpointed) order += (order.empty() ? "" : "\n") + f->name();
+    if (c.header) {
+      const CheckpointHeader& h = *c.header;
       w.attr_string(root, "format", kMagic);
-      w.attr(root, "format_version", H5T_NATIVE_INT, h.format_version);
+      // a checkpoint in pieces has its own format version (older readers refuse it instead of misreading it)
+      const int version = c.pieces ? kCheckpointPiecesFormatVersion : h.format_version;
+      w.attr(root, "format_version", H5T_NATIVE_INT, version);
       w.attr_string(root, "program_version", h.program_version);
       w.attr_string(root, "real", h.real_type);
       w.attr(root, "dimension", H5T_NATIVE_INT, h.dimension);
       w.attr(root, "step", H5T_NATIVE_INT64, h.step);
       w.attr(root, "time", H5T_NATIVE_DOUBLE, h.time);
       w.attr(root, "dt", H5T_NATIVE_DOUBLE, h.dt);
-      const std::int64_t n = std::int64_t(store.size());
+      std::int64_t n = std::int64_t(c.count);
+      if (c.pieces) {
+        n = 0;
+        for (auto k : *c.pieces) n += k;
+        w.attr(root, "pieces", H5T_NATIVE_INT, int(c.pieces->size()));
+      }
       w.attr(root, "particles", H5T_NATIVE_INT64, n);
       w.attr_string(root, "integrator", h.integrator);
-
       Handle meta(w.check_id(H5Gcreate2(fid, "meta", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "group meta"));
       const std::string scene = h.scene.dump(), integ = h.integrator_state.dump(), runner = h.runner_state.dump();
       w.text(meta.get(), "scene", scene);
       w.text(meta.get(), "integrator_state", integ);
       w.text(meta.get(), "runner_state", runner);
-
+      w.text(meta.get(), "field_order", order);
+      if (c.pieces)
+        w.dataset(meta.get(), "piece_particles", H5T_NATIVE_INT64, c.pieces->size(), 1, c.pieces->data());
+      CheckpointHeader hd = h;
+      hd.format_version = version;
+      hd.particles = n;
+      digest_header(digest, hd, scene, integ, runner, order);
+      if (c.pieces) digest.bytes(c.pieces->data(), c.pieces->size() * sizeof(std::int64_t));
+    } else {
+      w.attr_string(root, "format", kPieceMagic);
+      w.attr(root, "piece", H5T_NATIVE_INT, c.piece);
+      const std::int64_t n = std::int64_t(c.count);
+      w.attr(root, "particles", H5T_NATIVE_INT64, n);
+      digest.value(c.piece);
+      digest.value(n);
+      digest.text(order);
+    }
+    if (!c.pieces) {
       Handle parts(
           w.check_id(H5Gcreate2(fid, "particles", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "group particles"));
-      std::string order;
       for (const auto& f : store.fields()) {
         if (!f->flags().checkpointed) continue;
-        order += (order.empty() ? "" : "\n") + f->name();
-        w.dataset(parts.get(), f->name(), native_type(f->scalar_type()), store.size(), f->components(), f->raw());
+        w.dataset(parts.get(), f->name(), native_type(f->scalar_type()), c.count, f->components(), f->raw());
       }
-      w.text(meta.get(), "field_order", order);
-      Digest d;
-      CheckpointHeader hd = h;
-      hd.particles = n;
-      digest_header(d, hd, scene, integ, runner, order);
       for (const auto& f : store.fields()) {
         if (!f->flags().checkpointed) continue;
-        d.text(f->name());
-        d.value(int(f->scalar_type()));
-        d.value(f->components());
-        d.bytes(f->raw(), f->bytes_per_particle() * store.size());
+        digest.text(f->name());
+        digest.value(int(f->scalar_type()));
+        digest.value(f->components());
+        digest.bytes(f->raw(), f->bytes_per_particle() * c.count);
       }
-      w.attr(root, "content_digest", H5T_NATIVE_UINT64, d.result());
     }
+    w.attr(root, "content_digest", H5T_NATIVE_UINT64, digest.result());
     w.check(H5Fflush(fid, H5F_SCOPE_GLOBAL), "flushing");
   } catch (...) {
     H5Fclose(fid);
@@ -349,10 +381,49 @@ const CheckpointArray* Checkpoint::find(const std::string& name) const {
 }
 
 void write_checkpoint(const std::filesystem::path& path, const CheckpointHeader& header, const ParticleStore& store) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, path.string(), header, store); });
+  FileContent c;
+  c.header = &header;
+  c.store = &store;
+  c.count = store.size();
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, path.string(), c); });
 }
 
-Checkpoint read_checkpoint(const std::filesystem::path& path) {
+std::filesystem::path checkpoint_pieces_dir(const std::filesystem::path& manifest) {
+  return manifest.parent_path() / manifest.stem();
+}
+
+std::filesystem::path checkpoint_piece_path(const std::filesystem::path& manifest, int piece) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "piece_%06d.h5", piece);
+  return checkpoint_pieces_dir(manifest) / buf;
+}
+
+void write_checkpoint_piece(const std::filesystem::path& manifest, int piece, const ParticleStore& store,
+                            std::size_t count) {
+  FileContent c;
+  c.store = &store;
+  c.count = count;
+  c.piece = piece;
+  const auto path = checkpoint_piece_path(manifest, piece);
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, path.string(), c); });
+}
+
+void write_checkpoint_manifest(const std::filesystem::path& path, const CheckpointHeader& header,
+                               const ParticleStore& store, const std::vector<std::int64_t>& piece_counts) {
+  FileContent c;
+  c.header = &header;
+  c.store = &store;
+  c.pieces = &piece_counts;
+  write_atomically(path, [&](const std::filesystem::path& tmp) { write_file(tmp, path.string(), c); });
+}
+
+void remove_checkpoint(const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+  std::filesystem::remove_all(checkpoint_pieces_dir(path), ec);
+}
+
+Checkpoint read_checkpoint(const std::filesystem::path& path, int part, int parts) {
   silence_hdf5();
   Reader r{path.string()};
   std::error_code ec;
@@ -367,9 +438,9 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
   Checkpoint c;
   CheckpointHeader& h = c.header;
   h.format_version = r.attr<int>(fid, "format_version", H5T_NATIVE_INT);
-  if (h.format_version > kCheckpointFormatVersion)
+  if (h.format_version > kCheckpointPiecesFormatVersion)
     throw InputError(path.string() + ": checkpoint format version " + std::to_string(h.format_version) +
-                     " is newer than this program reads (" + std::to_string(kCheckpointFormatVersion) +
+                     " is newer than this program reads (" + std::to_string(kCheckpointPiecesFormatVersion) +
                      "); use the varsph version that wrote it (" + r.attr_string(fid, "program_version") + ")");
   if (h.format_version < 1) r.fail("format_version " + std::to_string(h.format_version));
   h.program_version = r.attr_string(fid, "program_version");
@@ -393,37 +464,117 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
   h.integrator_state = r.json_of(integ, "integrator_state");
   h.runner_state = r.json_of(runner, "runner_state");
 
-  if (H5Lexists(fid, "particles", H5P_DEFAULT) <= 0) r.fail("group 'particles' is missing");
-  Handle parts(r.check_id(H5Gopen2(fid, "particles", H5P_DEFAULT), "group 'particles' is unreadable"));
-  std::stringstream ss(order);
-  std::string name;
-  while (std::getline(ss, name)) {
-    if (name.empty()) continue;
-    Handle d(r.check_id(H5Dopen2(parts.get(), name.c_str(), H5P_DEFAULT), "dataset '" + name + "' is missing"));
-    Handle t(r.check_id(H5Dget_type(d.get()), name));
-    const H5T_class_t cls = H5Tget_class(t.get());
-    const std::size_t sz = H5Tget_size(t.get());
-    ScalarType st;
-    if (cls == H5T_FLOAT && sz == 8) st = ScalarType::Float64;
-    else if (cls == H5T_FLOAT && sz == 4) st = ScalarType::Float32;
-    else if (cls == H5T_INTEGER && sz == 8) st = ScalarType::Int64;
-    else if (cls == H5T_INTEGER && sz == 4) st = ScalarType::Int32;
-    else r.fail("dataset '" + name + "' has an unsupported scalar type");
-    CheckpointArray a;
-    a.name = name;
-    a.type = st;
-    a.bytes = r.dataset(parts.get(), name, st, h.particles, a.components);
-    digest.text(a.name);
-    digest.value(int(a.type));
-    digest.value(a.components);
-    digest.bytes(a.bytes.data(), a.bytes.size());
-    c.arrays.push_back(std::move(a));
+  // Every field of `group` (one file), all `expected_rows` rows, added to `dg` as written.
+  auto read_all = [&](const Reader& rd, hid_t group, std::int64_t expected_rows, Digest& dg) {
+    std::vector<CheckpointArray> out;
+    std::stringstream ss(order);
+    std::string name;
+    while (std::getline(ss, name)) {
+      if (name.empty()) continue;
+      Handle d(rd.check_id(H5Dopen2(group, name.c_str(), H5P_DEFAULT), "dataset '" + name + "' is missing"));
+      Handle t(rd.check_id(H5Dget_type(d.get()), name));
+      const H5T_class_t cls = H5Tget_class(t.get());
+      const std::size_t sz = H5Tget_size(t.get());
+      ScalarType st;
+      if (cls == H5T_FLOAT && sz == 8) st = ScalarType::Float64;
+      else if (cls == H5T_FLOAT && sz == 4) st = ScalarType::Float32;
+      else if (cls == H5T_INTEGER && sz == 8) st = ScalarType::Int64;
+      else if (cls == H5T_INTEGER && sz == 4) st = ScalarType::Int32;
+      else rd.fail("dataset '" + name + "' has an unsupported scalar type");
+      CheckpointArray a;
+      a.name = name;
+      a.type = st;
+      a.bytes = rd.dataset(group, name, st, expected_rows, a.components);
+      dg.text(a.name);
+      dg.value(int(a.type));
+      dg.value(a.components);
+      dg.bytes(a.bytes.data(), a.bytes.size());
+      out.push_back(std::move(a));
+    }
+    return out;
+  };
+  // Appends rows [lo, hi) of `from` (one file's arrays) to this reader's arrays.
+  auto take_rows = [&](const Reader& rd, const std::vector<CheckpointArray>& from, std::int64_t lo, std::int64_t hi) {
+    for (std::size_t k = 0; k < from.size(); ++k) {
+      const CheckpointArray& a = from[k];
+      if (k >= c.arrays.size()) {
+        CheckpointArray e;
+        e.name = a.name;
+        e.type = a.type;
+        e.components = a.components;
+        c.arrays.push_back(std::move(e));
+      }
+      CheckpointArray& out = c.arrays[k];
+      if (out.name != a.name || out.type != a.type || out.components != a.components)
+        rd.fail("dataset '" + a.name + "' differs between pieces");
+      const std::size_t row = scalar_bytes(a.type) * std::size_t(a.components);
+      out.bytes.insert(out.bytes.end(), a.bytes.begin() + std::ptrdiff_t(std::size_t(lo) * row),
+                       a.bytes.begin() + std::ptrdiff_t(std::size_t(hi) * row));
+    }
+  };
+  auto check_digest = [](const Reader& rd, hid_t file_id, const Digest& dg) {
+    if (rd.attr<std::uint64_t>(file_id, "content_digest", H5T_NATIVE_UINT64) != dg.result())
+      rd.fail("content digest mismatch (the file was damaged after it was written)");
+  };
+  // this reader's share: rows [first, first + rows) of the particles (all of them for part 0 of 1);
+  // every file it touches is read whole, so that its digest is checked
+  c.first_row = h.particles * part / parts;
+  c.rows = h.particles * (part + 1) / parts - c.first_row;
+  if (H5Aexists(fid, "pieces") > 0) {
+    // a checkpoint in pieces (distributed run): the rows are the pieces' particles in piece order
+    if (h.format_version != kCheckpointPiecesFormatVersion)
+      r.fail("attribute 'pieces' in a format " + std::to_string(h.format_version) + " file");
+    const int pieces = r.attr<int>(fid, "pieces", H5T_NATIVE_INT);
+    if (pieces < 1) r.fail("attribute 'pieces' is " + std::to_string(pieces));
+    int one = 1;
+    const auto raw = r.dataset(meta.get(), "piece_particles", ScalarType::Int64, pieces, one);
+    digest.bytes(raw.data(), raw.size());
+    check_digest(r, fid, digest);
+    std::vector<std::int64_t> counts(static_cast<std::size_t>(pieces));
+    std::memcpy(counts.data(), raw.data(), raw.size());
+    std::int64_t begin = 0;
+    for (int k = 0; k < pieces; ++k) {
+      if (counts[std::size_t(k)] < 0) r.fail("piece " + std::to_string(k) + " has a negative particle count");
+      const std::int64_t end = begin + counts[std::size_t(k)];
+      const std::int64_t lo = std::max(begin, c.first_row), hi = std::min(end, c.first_row + c.rows);
+      // pieces holding some of this reader's rows; piece 0 also when there are none (field shapes)
+      if (lo < hi || (k == 0 && c.rows == 0)) {
+        const auto piece = checkpoint_piece_path(path, k);
+        Reader pr{piece.string()};
+        pr.file_bytes = std::filesystem::file_size(piece, ec);
+        if (ec || H5Fis_hdf5(piece.c_str()) <= 0)
+          r.fail("piece " + std::to_string(k) + " (" + piece.string() + ") is missing or not an HDF5 file");
+        Handle pf(H5Fopen(piece.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+        if (!pf.ok()) pr.fail("HDF5 cannot open it (truncated or corrupted?)");
+        if (pr.attr_string(pf.get(), "format") != kPieceMagic) pr.fail("not a piece of a varsph checkpoint");
+        if (pr.attr<int>(pf.get(), "piece", H5T_NATIVE_INT) != k) pr.fail("its piece number differs from its name");
+        const auto n = pr.attr<std::int64_t>(pf.get(), "particles", H5T_NATIVE_INT64);
+        if (n != counts[std::size_t(k)]) pr.fail("its particle count differs from the manifest's");
+        if (H5Lexists(pf.get(), "particles", H5P_DEFAULT) <= 0) pr.fail("group 'particles' is missing");
+        Handle g(pr.check_id(H5Gopen2(pf.get(), "particles", H5P_DEFAULT), "group 'particles' is unreadable"));
+        Digest pd;
+        pd.value(k);
+        pd.value(n);
+        pd.text(order);
+        const auto arrays = read_all(pr, g.get(), n, pd);
+        check_digest(pr, pf.get(), pd);
+        if (lo < hi) take_rows(pr, arrays, lo - begin, hi - begin);
+        else take_rows(pr, arrays, 0, 0);
+      }
+      begin = end;
+    }
+    if (begin != h.particles) r.fail("the pieces' particle counts do not add up to 'particles'");
+    return c;
   }
+  if (h.format_version > kCheckpointFormatVersion)
+    r.fail("format_version " + std::to_string(h.format_version) + " without the attribute 'pieces'");
+  if (H5Lexists(fid, "particles", H5P_DEFAULT) <= 0) r.fail("group 'particles' is missing");
+  Handle parts_group(r.check_id(H5Gopen2(fid, "particles", H5P_DEFAULT), "group 'particles' is unreadable"));
+  const auto arrays = read_all(r, parts_group.get(), h.particles, digest);
   // the digest over everything read must match the one written; format 2 on it is required (format 1
   // files were written before it existed)
-  if ((h.format_version >= 2 || H5Aexists(fid, "content_digest") > 0) &&
-      r.attr<std::uint64_t>(fid, "content_digest", H5T_NATIVE_UINT64) != digest.result())
-    r.fail("content digest mismatch (the file was damaged after it was written)");
+  if (h.format_version >= 2 || H5Aexists(fid, "content_digest") > 0) check_digest(r, fid, digest);
+  take_rows(r, arrays, c.first_row, c.first_row + c.rows);
   return c;
 }
 

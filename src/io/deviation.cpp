@@ -9,6 +9,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkXMLPUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <algorithm>
@@ -67,10 +68,19 @@ struct Frame {
 
 Frame read_frame(const fs::path& file, double pvd_time) {
   if (!fs::exists(file)) throw InputError(file.string() + ": frame listed in the .pvd does not exist");
+  // a serial frame (.vtu) or a distributed one (.pvtu and its pieces, docs/parallel.md)
   vtkNew<vtkXMLUnstructuredGridReader> reader;
-  reader->SetFileName(file.c_str());
-  reader->Update();
-  vtkUnstructuredGrid* g = reader->GetOutput();
+  vtkNew<vtkXMLPUnstructuredGridReader> preader;
+  vtkUnstructuredGrid* g = nullptr;
+  if (file.extension() == ".pvtu") {
+    preader->SetFileName(file.c_str());
+    preader->Update();
+    g = preader->GetOutput();
+  } else {
+    reader->SetFileName(file.c_str());
+    reader->Update();
+    g = reader->GetOutput();
+  }
   if (!g || !g->GetPoints()) throw InputError(file.string() + ": not a readable VTU frame");
   vtkDataArray* id = g->GetPointData()->GetArray("id");
   vtkDataArray* kind = g->GetPointData()->GetArray("kind");

@@ -20,6 +20,8 @@ struct FrameData {
   const FieldBase* positions = nullptr;
   std::vector<FrameArray> arrays;
   bool float64 = false;  // output.precision
+  // particles written: the first `count` of the store (a distributed run's owned ones); npos = all
+  std::size_t count = std::size_t(-1);
   // field data
   double time = 0, dx = 0, h = 0, rho0 = 0, c0 = 0, support_radius = 0;
   std::int64_t step = 0;
@@ -28,5 +30,9 @@ struct FrameData {
 
 // Writes a VTU file (appended raw binary) atomically. IoError on failure.
 void write_vtu(const std::string& path, const FrameData& frame);
+// Writes the .pvtu that ties the pieces of a distributed frame together (the file VTK's parallel XML
+// writer, vtkXMLPUnstructuredGridWriter, writes): the arrays' declarations, the frame's field data and
+// one <Piece Source=.../> per piece, paths relative to the .pvtu. Atomically; IoError on failure.
+void write_pvtu(const std::string& path, const FrameData& frame, const std::vector<std::string>& pieces);
 
 }  // namespace varsph::io

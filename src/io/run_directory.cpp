@@ -9,8 +9,21 @@ namespace varsph::io {
 
 std::string RunDirectory::frame_relative(long index) const {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "_%06ld.vtu", index);
+  std::snprintf(buf, sizeof buf, pieces ? "_%06ld.pvtu" : "_%06ld.vtu", index);
   return "frames/" + name + buf;
+}
+std::string RunDirectory::piece_relative(long index, int rank) const {
+  char stem[32], file[48];
+  std::snprintf(stem, sizeof stem, "_%06ld", index);
+  std::snprintf(file, sizeof file, "_%06ld_%d.vtu", index, rank);
+  return "frames/" + name + stem + "/" + name + file;
+}
+void RunDirectory::remove_frame(long index) const {
+  std::error_code ec;
+  std::filesystem::remove(frame(index), ec);
+  char stem[32];
+  std::snprintf(stem, sizeof stem, "_%06ld", index);
+  std::filesystem::remove_all(frames() / (name + stem), ec);
 }
 std::filesystem::path RunDirectory::frame(long index) const { return root / frame_relative(index); }
 

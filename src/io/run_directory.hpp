@@ -11,8 +11,13 @@ struct RunDirectory {
   std::string name;
   std::filesystem::path pvd() const { return root / (name + ".pvd"); }
   std::filesystem::path frames() const { return root / "frames"; }
-  std::filesystem::path frame(long index) const;          // frames/NAME_000042.vtu
-  std::string frame_relative(long index) const;           // "frames/NAME_000042.vtu"
+  // distributed runs: a frame is frames/NAME_000042.pvtu plus one piece per rank in
+  // frames/NAME_000042/NAME_000042_R.vtu (the .pvd lists the .pvtu)
+  bool pieces = false;
+  std::filesystem::path frame(long index) const;          // frames/NAME_000042.vtu (or .pvtu)
+  std::string frame_relative(long index) const;           // "frames/NAME_000042.vtu" (or .pvtu)
+  std::string piece_relative(long index, int rank) const;  // "frames/NAME_000042/NAME_000042_3.vtu"
+  void remove_frame(long index) const;                    // the frame and its pieces
   std::filesystem::path diagnostics() const { return root / "diagnostics.csv"; }
   std::filesystem::path probes() const { return root / "probes.csv"; }
   std::filesystem::path removed() const { return root / "removed.csv"; }  // particles removed by health.*

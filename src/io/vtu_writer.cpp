@@ -123,11 +123,36 @@ std::string xml_escape(const std::string& s) {
   return o;
 }
 
+// The field data every frame carries (CONTRACT.md), inline ascii (doubles with 17 digits: exact).
+std::string field_data_xml(const FrameData& frame, const std::string& indent) {
+  std::string xml;
+  auto field_num = [&](const char* type, const char* name, const std::string& value) {
+    xml += indent + "<DataArray type=\"" + std::string(type) + "\" Name=\"" + name +
+           "\" NumberOfTuples=\"1\" format=\"ascii\">" + value + "</DataArray>\n";
+  };
+  field_num("Float64", "time", num17(frame.time));
+  field_num("Int64", "step", std::to_string(frame.step));
+  field_num("Float64", "dx", num17(frame.dx));
+  field_num("Float64", "h", num17(frame.h));
+  field_num("Float64", "rho0", num17(frame.rho0));
+  field_num("Float64", "c0", num17(frame.c0));
+  field_num("Float64", "support_radius", num17(frame.support_radius));
+  field_num("Int32", "dimension", std::to_string(frame.dimension));
+  {
+    // a string array in ascii: the characters' codes, each string terminated by 0
+    std::string codes;
+    for (unsigned char ch : frame.kernel) codes += std::to_string(int(ch)) + " ";
+    codes += "0";
+    xml += indent + "<Array type=\"String\" Name=\"kernel\" NumberOfTuples=\"1\" format=\"ascii\">" + codes + "</Array>\n";
+  }
+  return xml;
+}
+
 }  // namespace
 
 void write_vtu(const std::string& path, const FrameData& frame) {
   const FieldBase& pos = *frame.positions;
-  const std::size_t n = pos.size();
+  const std::size_t n = std::min(pos.size(), frame.count);
   const bool f64 = frame.float64;
 
   std::vector<OutArray> point_arrays;
@@ -155,25 +180,7 @@ void write_vtu(const std::string& path, const FrameData& frame) {
   xml += "<?xml version=\"1.0\"?>\n";
   xml += "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
   xml += "  <UnstructuredGrid>\n    <FieldData>\n";
-  auto field_num = [&](const char* type, const char* name, const std::string& value) {
-    xml += "      <DataArray type=\"" + std::string(type) + "\" Name=\"" + name +
-           "\" NumberOfTuples=\"1\" format=\"ascii\">" + value + "</DataArray>\n";
-  };
-  field_num("Float64", "time", num17(frame.time));
-  field_num("Int64", "step", std::to_string(frame.step));
-  field_num("Float64", "dx", num17(frame.dx));
-  field_num("Float64", "h", num17(frame.h));
-  field_num("Float64", "rho0", num17(frame.rho0));
-  field_num("Float64", "c0", num17(frame.c0));
-  field_num("Float64", "support_radius", num17(frame.support_radius));
-  field_num("Int32", "dimension", std::to_string(frame.dimension));
-  {
-    // a string array in ascii: the characters' codes, each string terminated by 0
-    std::string codes;
-    for (unsigned char ch : frame.kernel) codes += std::to_string(int(ch)) + " ";
-    codes += "0";
-    xml += "      <Array type=\"String\" Name=\"kernel\" NumberOfTuples=\"1\" format=\"ascii\">" + codes + "</Array>\n";
-  }
+  xml += field_data_xml(frame, "      ");
   xml += "    </FieldData>\n";
   xml += "    <Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfCells=\"" + std::to_string(n) + "\">\n";
   xml += "      <PointData>\n";
@@ -220,6 +227,38 @@ void write_vtu(const std::string& path, const FrameData& frame) {
     stream(offs);
     stream(types);
     out.write(std::string("\n  </AppendedData>\n</VTKFile>\n"));
+    out.close();
+  });
+}
+
+void write_pvtu(const std::string& path, const FrameData& frame, const std::vector<std::string>& pieces) {
+  const bool f64 = frame.float64;
+  std::string xml;
+  xml += "<?xml version=\"1.0\"?>\n";
+  xml += "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
+  xml += "  <PUnstructuredGrid GhostLevel=\"0\">\n    <FieldData>\n";
+  xml += field_data_xml(frame, "      ");
+  xml += "    </FieldData>\n    <PPointData>\n";
+  for (const auto& fa : frame.arrays) {
+    const FieldBase& f = *fa.field;
+    const int oc = fa.pad_to_3 ? 3 : f.components();
+    xml += "      <PDataArray type=\"" + std::string(type_name(f.scalar_type(), f64)) + "\" Name=\"" +
+           xml_escape(fa.name) + "\"" + (oc > 1 ? " NumberOfComponents=\"" + std::to_string(oc) + "\"" : "") + "/>\n";
+  }
+  xml += "    </PPointData>\n    <PPoints>\n";
+  xml += std::string("      <PDataArray type=\"") + (f64 ? "Float64" : "Float32") +
+         "\" Name=\"Points\" NumberOfComponents=\"3\"/>\n";
+  xml += "    </PPoints>\n";
+  // the pieces' vertex cells, declared as the pieces write them: without PCells VTK's parallel reader
+  // builds the merged grid's cells wrongly (ParaView's Threshold then crashed in postprocess.py)
+  xml += "    <PCells>\n      <PDataArray type=\"Int64\" Name=\"connectivity\"/>\n"
+         "      <PDataArray type=\"Int64\" Name=\"offsets\"/>\n      <PDataArray type=\"UInt8\" Name=\"types\"/>\n"
+         "    </PCells>\n";
+  for (const auto& p : pieces) xml += "    <Piece Source=\"" + xml_escape(p) + "\"/>\n";
+  xml += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    File out(tmp);
+    out.write(xml);
     out.close();
   });
 }

@@ -135,6 +135,7 @@ Vec<D> NeighborGrid<D>::wrap_shift(const Vec<D>& x) const {
 
 template <int D>
 void NeighborGrid<D>::build(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm) {
+  local_ = false;
   if (opt_.hashed) build_hashed(x, perm);
   else build_uniform(x, perm);
 }

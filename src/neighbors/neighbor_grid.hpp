@@ -48,6 +48,22 @@ class NeighborGrid {
   Vec<D> wrap_shift(const Vec<D>& x) const;
 
   const std::vector<CellBlock>& blocks() const { return blocks_; }
+  // Distributed runs (src/parallel/domain.cpp): blocks over owned particles and ranges over owned and
+  // ghost particles, built by the decomposition layer for this grid's cells; swapped in (the arguments
+  // get the previous vectors back, for reuse).
+  // `window` holds the particle range [begin, end) of every cell of the box [lo, lo + ext) of unwrapped
+  // cell coordinates that this process sees (its cells and the halo; periodic images included), for
+  // for_each_near.
+  void set_topology(std::vector<CellBlock>& blocks, std::vector<NeighborRange>& ranges,
+                    const std::array<std::int64_t, D>& window_lo, const std::array<std::int64_t, D>& window_ext,
+                    std::vector<std::array<std::uint32_t, 2>>& window) {
+    blocks_.swap(blocks);
+    ranges_.swap(ranges);
+    window_lo_ = window_lo;
+    window_ext_ = window_ext;
+    window_.swap(window);
+    local_ = true;
+  }
   const std::vector<NeighborRange>& ranges() const { return ranges_; }
   const Vec<D>& shift(std::uint32_t id) const { return shifts_[id]; }
   Real cell_size(int axis) const { return cell_[axis]; }
@@ -91,6 +107,10 @@ class NeighborGrid {
   std::vector<std::uint32_t> count_;
   std::vector<Coord> coords_;
   std::vector<std::uint32_t> bucket_start_;  // hashed: bucket -> first block
+  // distributed runs (set_topology): the cells this process sees; local_ false after a serial build()
+  bool local_ = false;
+  std::array<std::int64_t, D> window_lo_{}, window_ext_{};
+  std::vector<std::array<std::uint32_t, 2>> window_;
 };
 
 template <int D>
@@ -140,7 +160,8 @@ void NeighborGrid<D>::for_each_near(const Vec<D>& p, std::span<const Vec<D>> x, 
     Vec<D> shift = Vec<D>::Zero();
     bool valid = true;
     for (int a = 0; a < D; ++a) {
-      std::int64_t nc = c[a] + (t % w - m_);
+      const std::int64_t unwrapped = c[a] + (t % w - m_);
+      std::int64_t nc = unwrapped;
       t /= w;
       if (nc < 0 || nc >= dims_[a]) {
         if (!opt_.periodic[a]) { valid = false; break; }
@@ -148,10 +169,18 @@ void NeighborGrid<D>::for_each_near(const Vec<D>& p, std::span<const Vec<D>> x, 
         shift[a] = Real(wrap) * (opt_.max[a] - opt_.min[a]);
         nc = (nc + dims_[a]) % dims_[a];
       }
+      if (local_) {  // unwrapped coordinate in the window (cells outside it are not on this process)
+        const std::int64_t u = unwrapped - window_lo_[a];
+        if (u < 0 || u >= window_ext_[a]) { valid = false; break; }
+        key += std::uint64_t(u) * mul;
+        mul *= std::uint64_t(window_ext_[a]);
+        continue;
+      }
       key += std::uint64_t(nc) * mul;
       mul *= std::uint64_t(dims_[a]);
     }
-    if (valid) visit_range(cell_begin(key), cell_end(key), shift);
+    if (valid && local_) visit_range(window_[key][0], window_[key][1], shift);
+    else if (valid) visit_range(cell_begin(key), cell_end(key), shift);
   }
 }
 

@@ -2,6 +2,7 @@
 // Rates of change of the fluid state, one virtual call per pass (never per pair). The concrete class
 // is instantiated for the scene's kernel; the viscosity, wall and density-diffusion policies are picked
 // once at construction (make_rates()), each combination a separately compiled pass.
+#include <functional>
 #include <memory>
 
 #include "neighbors/neighbor_grid.hpp"
@@ -55,6 +56,10 @@ class Rates {
   // physics/shifting.hpp). Off unless named: shifting_enabled() false, shifting() never called.
   virtual bool shifting_enabled() const { return false; }
   virtual void shifting(const NeighborGrid<D>&, const ParticleView<D>&, Real /*dt*/, Vec<D>* /*out*/) const {}
+
+  // A maximum over this process's particles made global (the shifting pass's "max" speed): the identity
+  // in one process; a distributed run (parallel/halo_rates.hpp) sets the maximum over all ranks.
+  std::function<Real(Real)> global_max = [](Real v) { return v; };
 };
 
 template <int D>

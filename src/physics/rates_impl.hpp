@@ -103,6 +103,7 @@ class RatesImpl final : public Rates<D> {
     if (p_.shifting.global_speed)
       for (std::size_t i = 0; i < s.size(); ++i)
         if (s.kind[i] == kFluid) vmax = std::max(vmax, s.v[i].norm());
+    if (p_.shifting.global_speed) vmax = this->global_max(vmax);  // over every rank (distributed runs)
     ShiftingPass<D, Kernel> pass{W_, s, p_.shifting, p_.h, dt, p_.rho0, p_.shifting.max_shift * p_.dx,
                                  Real(1) / W_.w_r2(p_.dx * p_.dx), vmax, out};
     for_each_particle_pairs<D>(g, s.x, W_.support(), pass);

@@ -324,6 +324,12 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   if (!s.probes.is_array()) r.fail_got("probes", "a list of probes", s.probes);
   s.health = parse_health(r);
   s.log_every_steps = int(r.integer("log.every_steps", 0, 0, 1000000000));
+  s.rebalance_threshold = r.number("parallel.rebalance_threshold", 1.15, 1.0, 1e6,
+                                   "slowest rank's busy time over the mean that triggers a repartition");
+  s.rebalance_check_every = r.integer("parallel.rebalance_check_every", 50, 0, 1000000000000L);
+  s.rebalance_every = r.integer("parallel.rebalance_every", 0, 0, 1000000000000L);
+  s.fluid_weight = int(r.integer("parallel.weights.fluid", 4, 1, 1000000));
+  s.boundary_weight = int(r.integer("parallel.weights.boundary", 1, 0, 1000000));
   // where the steps run (docs/gpu.md): the OpenMP host loops, a CUDA device, or the CUDA backend's
   // loops through a host launch (tests, debugging)
   s.device = r.choice("execution.device", "cpu", {"cpu", "cuda", "cuda_emulation"});

@@ -136,6 +136,12 @@ struct Scene {
   double cfl_viscous = 0.125; // integrator.cfl_criteria.viscous  (Morris 1997)
   int shepard_reinit_every = 0;  // physics.shepard_reinit.every [steps], 0 = off
 
+  // --- distributed runs (docs/parallel.md; ignored in one process, may change on restart) ---
+  double rebalance_threshold = 1.15;  // parallel.rebalance_threshold: slowest rank's busy time / mean
+  long rebalance_check_every = 50;    // parallel.rebalance_check_every [steps], 0 = never
+  long rebalance_every = 0;           // parallel.rebalance_every [steps]: repartition regardless, 0 = off
+  int fluid_weight = 4;               // parallel.weights.fluid: partition weight of a fluid particle
+  int boundary_weight = 1;            // parallel.weights.boundary
   std::string device = "cpu";  // execution.device: cpu | cuda | cuda_emulation (docs/gpu.md)
 };
 

@@ -11,6 +11,7 @@ inline nlohmann::json build_info() {
           {"build_type", VARSPH_BUILD_TYPE},
           {"compiler", __VERSION__},
           {"openmp", _OPENMP},
+          {"mpi", bool(VARSPH_MPI_BUILD)},
           {"cuda", bool(VARSPH_HAVE_CUDA_BUILD)}};  // the CUDA backend is compiled in (docs/gpu.md)
 }
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "parallel/communicator.hpp"
+
 namespace varsph {
 
 double tait_internal_energy(double rho, double rho0, double B) {
@@ -42,6 +44,23 @@ Diagnostics compute_diagnostics(const Simulation<D>& sim) {
     d.internal_energy += m * tait_internal_energy(f.rho[i], s.rho0, B);
     d.max_speed = std::max(d.max_speed, std::sqrt(v2));
     d.density_error_max = std::max(d.density_error_max, std::abs(double(f.rho[i]) / s.rho0 - 1.0));
+  }
+  if (sim.distributed()) {  // sums and maxima over every rank (sums to round-off, maxima exactly)
+    double sums[10] = {d.momentum[0], d.momentum[1], d.momentum[2], L[0], L[1], L[2], d.kinetic_energy,
+                       d.potential_energy, d.internal_energy, double(n_fluid)};
+    double maxs[2] = {d.max_speed, d.density_error_max};
+    sim.comm().sum(sums);
+    sim.comm().max(maxs);
+    for (int a = 0; a < 3; ++a) {
+      d.momentum[a] = sums[a];
+      L[a] = sums[3 + a];
+    }
+    d.kinetic_energy = sums[6];
+    d.potential_energy = sums[7];
+    d.internal_energy = sums[8];
+    n_fluid = std::size_t(sums[9]);
+    d.max_speed = maxs[0];
+    d.density_error_max = maxs[1];
   }
   if (n_fluid > 0) {
     const double q2 = d.momentum[0] * d.momentum[0] + d.momentum[1] * d.momentum[1] + d.momentum[2] * d.momentum[2];

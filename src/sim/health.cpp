@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <sstream>
+#include <type_traits>
 
+#include "parallel/collective.hpp"
 #include "sim/diagnostics.hpp"
 
 namespace varsph {
@@ -41,6 +44,19 @@ HealthMonitor<D>::HealthMonitor(const scene::Scene& s)
   window_.assign(std::size_t(spec_.removal_window), 0);
 }
 
+namespace {
+
+// A distributed run's energies summed over ranks (to round-off: the order of the ranks' sums differs
+// from one process's block order; the rules compare them with thresholds, not bits).
+template <int D>
+void sum_over_ranks(const Simulation<D>& sim, FluidEnergy& e) {
+  double v[4] = {e.kinetic, e.potential, e.internal, e.mass};
+  sim.comm().sum(std::span<double>(v, 4));
+  e = {v[0], v[1], v[2], v[3]};
+}
+
+}  // namespace
+
 template <int D>
 FluidEnergy HealthMonitor<D>::fluid_energy(const Simulation<D>& sim, const std::uint8_t* skip) const {
   const auto& f = sim.fields();
@@ -75,6 +91,7 @@ FluidEnergy HealthMonitor<D>::fluid_energy(const Simulation<D>& sim, const std::
     sum.internal += e.internal;
     sum.mass += e.mass;
   }
+  if (sim.distributed()) sum_over_ranks(sim, sum);
   return sum;
 }
 
@@ -218,26 +235,46 @@ std::string HealthMonitor<D>::after_step(Simulation<D>& sim) {
       e.mass += s.e.mass;
     }
   }
+  // a distributed run decides on global figures: every rank takes the same branch below, and a message
+  // names the particle of the lowest rank that has one
+  const bool dist = sim.distributed();
+  auto agreed = [&](const std::string& local) { return dist ? parallel::first_message(sim.comm(), local) : local; };
+  if (dist && energy) sum_over_ranks(sim, e);
   const std::string where = "health rule '";
-  if (first_nan >= 0) {
-    std::ostringstream msg;
-    msg << where << "nan': particle id " << f.id[std::size_t(first_nan)]
-        << (f.kind[std::size_t(first_nan)] == 0 ? " (fluid)" : " (boundary)")
-        << " has a non-finite position, velocity or density";
-    return msg.str();
+  {
+    std::string nan;
+    if (first_nan >= 0) {
+      std::ostringstream msg;
+      msg << where << "nan': particle id " << f.id[std::size_t(first_nan)]
+          << (f.kind[std::size_t(first_nan)] == 0 ? " (fluid)" : " (boundary)")
+          << " has a non-finite position, velocity or density";
+      nan = msg.str();
+    }
+    if (const std::string m = agreed(nan); !m.empty()) return m;
   }
 
   // what the removal rules found, in storage order (lowest index first: the same for any thread count)
   std::array<long, kRemovalRules> found{};
   doomed_.clear();
+  std::string stop;
   if (flagged > 0)
     for (std::size_t i = 0; i < n; ++i)
       if (flag[i]) {
         const auto r = RemovalRule(flag[i] - 1);
-        if (stop_) return where + removal_rule_name(r) + "' (health.on_violation = \"stop\"): " + violation_message(sim, i, r);
+        if (stop_) {
+          stop = where + removal_rule_name(r) + "' (health.on_violation = \"stop\"): " + violation_message(sim, i, r);
+          break;
+        }
         ++found[std::size_t(r)];
         doomed_.push_back(std::uint32_t(i));
       }
+  if (const std::string m = agreed(stop); !m.empty()) return m;
+  if (dist) {
+    std::int64_t c[kRemovalRules];
+    for (int r = 0; r < kRemovalRules; ++r) c[r] = found[std::size_t(r)];
+    sim.comm().sum(std::span<std::int64_t>(c, kRemovalRules));
+    for (int r = 0; r < kRemovalRules; ++r) found[std::size_t(r)] = long(c[r]);
+  }
 
   // rate and total: removals that are not water leaving the domain
   const long unphysical = found[1] + found[2];
@@ -245,14 +282,14 @@ std::string HealthMonitor<D>::after_step(Simulation<D>& sim) {
   const long window_sum = window_sum_ - window_[slot] + unphysical;
   const double n0 = double(std::max<std::size_t>(n0_, 1));
   if (unphysical > 0 && double(window_sum) > spec_.max_removed_fraction * n0) {
-    const std::size_t first = doomed_[std::size_t(std::find_if(doomed_.begin(), doomed_.end(), [&](std::uint32_t i) {
-                                                                return flag[i] != 1 + std::uint8_t(RemovalRule::Domain);
-                                                              }) - doomed_.begin())];
+    const auto it = std::find_if(doomed_.begin(), doomed_.end(),
+                                 [&](std::uint32_t i) { return flag[i] != 1 + std::uint8_t(RemovalRule::Domain); });
+    const std::string first =
+        agreed(it == doomed_.end() ? std::string() : violation_message(sim, *it, RemovalRule(flag[*it] - 1)));
     return where + "rate': " + std::to_string(window_sum) + " fluid particles (" + fmt(100.0 * window_sum / n0) +
            " % of " + std::to_string(n0_) + ") left the density or speed bounds within the last " +
            std::to_string(spec_.removal_window) + " steps (health.max_removed_fraction = " +
-           fmt(spec_.max_removed_fraction) + " per health.removal_window); first of this step: " +
-           violation_message(sim, first, RemovalRule(flag[first] - 1));
+           fmt(spec_.max_removed_fraction) + " per health.removal_window); first of this step: " + first;
   }
   const long total_unphysical = removed_[1] + removed_[2] + unphysical;
   if (unphysical > 0 && double(total_unphysical) > spec_.max_removed_total * n0)
@@ -273,11 +310,14 @@ std::string HealthMonitor<D>::after_step(Simulation<D>& sim) {
           v2 = double(f.v[i].squaredNorm());
           fastest = i;
         }
+      const double v2_all = dist ? sim.comm().max(v2) : v2;
+      const std::string fastest_text = agreed(v2 == v2_all && v2 >= 0 ? "particle id " + std::to_string(f.id[fastest]) +
+                                                                            " at " + fmt(std::sqrt(v2)) + " m/s"
+                                                                      : std::string());
       return where + "energy': the fluid's energy rose to " + fmt(e.total()) + " J (kinetic " + fmt(e.kinetic) +
              ", potential " + fmt(e.potential) + ", internal " + fmt(e.internal) + ") from " + fmt(e0_) +
              " J at the start, by " + fmt(growth) + " x the energy scale " + fmt(e_scale_) +
-             " J (health.max_energy_growth = " + fmt(spec_.max_energy_growth) + "); fastest: particle id " +
-             std::to_string(f.id[fastest]) + " at " + fmt(std::sqrt(v2)) + " m/s";
+             " J (health.max_energy_growth = " + fmt(spec_.max_energy_growth) + "); fastest: " + fastest_text;
     }
   }
 
@@ -285,11 +325,28 @@ std::string HealthMonitor<D>::after_step(Simulation<D>& sim) {
   window_sum_ = window_sum;
   window_[slot] = unphysical;
   for (int r = 0; r < kRemovalRules; ++r) removed_[std::size_t(r)] += found[std::size_t(r)];
-  if (!doomed_.empty()) {
+  if (!doomed_.empty() || (dist && found[0] + found[1] + found[2] > 0)) {
     for (const std::uint32_t i : doomed_) record(sim, i, RemovalRule(flag[i] - 1));
-    sim.remove_particles(doomed_);
+    if (dist) gather_removed(sim.comm());
+    sim.remove_particles(doomed_);  // collective in a distributed run
   }
   return {};
+}
+
+template <int D>
+void HealthMonitor<D>::gather_removed(parallel::Communicator& comm) {
+  // every rank's records, in rank order (removed.csv is written once)
+  static_assert(std::is_trivially_copyable_v<RemovedParticle>);
+  std::string mine(last_removed_.size() * sizeof(RemovedParticle), '\0');
+  if (!mine.empty()) std::memcpy(mine.data(), last_removed_.data(), mine.size());
+  last_removed_.clear();
+  for (int r = 0; r < comm.size(); ++r) {
+    const std::string got = comm.broadcast(r == comm.rank() ? mine : std::string(), r);
+    const std::size_t k = got.size() / sizeof(RemovedParticle);
+    const std::size_t at = last_removed_.size();
+    last_removed_.resize(at + k);
+    if (k) std::memcpy(static_cast<void*>(last_removed_.data() + at), got.data(), k * sizeof(RemovedParticle));
+  }
 }
 
 template <int D>

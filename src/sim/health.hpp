@@ -92,6 +92,8 @@ class HealthMonitor {
 
  private:
   std::string violation_message(const Simulation<D>& sim, std::size_t i, RemovalRule r) const;
+  // Distributed: last_removed_ becomes every rank's records in rank order, on every rank (collective).
+  void gather_removed(parallel::Communicator& comm);
   void record(const Simulation<D>& sim, std::size_t i, RemovalRule r);
 
   scene::HealthSpec spec_;

@@ -6,6 +6,7 @@
 
 #include "core/errors.hpp"
 #include "kernels/kernel_eval.hpp"
+#include "parallel/communicator.hpp"
 #include "physics/corrected_interpolation.hpp"
 #include "scene/json_reader.hpp"
 
@@ -95,15 +96,20 @@ double Probes<D>::fluid_pressure(const Simulation<D>& sim, const Vec<D>& x, cons
   const kernels::AnyKernel<D> W(sc.kernel, sc.h, sc.kernel_l);
   const Real off = Real(0.5 * sc.spacing);
   const Vec<D> node = x + off * n;
-  physics::CorrectedInterpolation<D> interp(double(W.support()));
-  sim.grid().for_each_near(node, f.x.data, W.support(), [&](std::uint32_t j, const Vec<D>& xgj) {
-    if (f.kind[j] != 0) return;
-    const auto k = W(xgj.norm());
-    interp.add(xgj, double(k.w), double(k.grad_factor), double(f.mass[j]) / double(f.rho[j]), double(f.p[j]));
-  });
-  const auto r = interp.solve();
-  if (r.empty) return 0.0;
-  return r.value - double(off) * r.gradient.dot(n.template cast<double>());
+  // distributed runs: the rank owning the node's cell has every neighbour (own or ghost) in the serial
+  // order and computes the serial value; the others add 0 (an exact sum)
+  double value = 0.0;
+  if (sim.owns_point(node)) {
+    physics::CorrectedInterpolation<D> interp(double(W.support()));
+    sim.grid().for_each_near(node, f.x.data, W.support(), [&](std::uint32_t j, const Vec<D>& xgj) {
+      if (f.kind[j] != 0) return;
+      const auto k = W(xgj.norm());
+      interp.add(xgj, double(k.w), double(k.grad_factor), double(f.mass[j]) / double(f.rho[j]), double(f.p[j]));
+    });
+    const auto r = interp.solve();
+    if (!r.empty) value = r.value - double(off) * r.gradient.dot(n.template cast<double>());
+  }
+  return sim.distributed() ? sim.global_sum(value) : value;
 }
 
 // What a wall pressure transducer reads (the one definition for every case and wall model): the mean
@@ -162,6 +168,15 @@ void Probes<D>::resolve_normals(const Simulation<D>& sim) {
         normals_[k] = f.normal[i];
       }
     }
+    if (sim.distributed()) {  // the nearest over every rank (ties: the lowest rank's candidate)
+      const double global_best = -sim.global_max(-best);
+      const int mine = best == global_best && normals_[k].squaredNorm() > 0 ? sim.comm().rank() : sim.comm().size();
+      const int winner = int(-sim.global_max(-double(mine)));
+      for (int a = 0; a < D; ++a) {
+        const double v = sim.global_sum(sim.comm().rank() == winner ? double(normals_[k][a]) : 0.0);
+        normals_[k][a] = Real(v);
+      }
+    }
     if (p.radius > 0 && normals_[k].squaredNorm() == 0)
       throw InputError(sim.scene().file.string() + ": probe '" + p.name +
                        "' has a radius but no `normal` and no wall particle within two spacings of its point: "
@@ -191,16 +206,22 @@ double Probes<D>::water_height(const Simulation<D>& sim, const ProbeSpec& p) con
   const double step = sc.spacing / 4;
   const double y0 = p.point[D - 1];
   const long m = long(std::ceil((p.top - y0) / step));
-  double h = 0, prev_phi = 0, prev_y = y0;
+  std::vector<double> phis(std::size_t(m + 1), 0.0);
   for (long k = 0; k <= m; ++k) {
-    const double y = std::min(y0 + double(k) * step, p.top);
     Vec<D> x = base;
-    x[D - 1] = Real(y);
+    x[D - 1] = Real(std::min(y0 + double(k) * step, p.top));
     double phi = 0;
     for (std::size_t j : near) {
       const Real r = (x - f.x[j]).norm();
       if (r < rc) phi += double(f.mass[j]) / double(f.rho[j]) * double(W(r).w);
     }
+    phis[std::size_t(k)] = phi;
+  }
+  if (sim.distributed()) sim.comm().sum(phis);  // sums over every rank's particles (to round-off)
+  double h = 0, prev_phi = 0, prev_y = y0;
+  for (long k = 0; k <= m; ++k) {
+    const double y = std::min(y0 + double(k) * step, p.top);
+    const double phi = phis[std::size_t(k)];
     if (k > 0 && prev_phi >= 0.5 && phi < 0.5) h = prev_y + (prev_phi - 0.5) / (prev_phi - phi) * (y - prev_y) - y0;
     if (k == m && phi >= 0.5) h = y - y0;  // filled to the top of the line
     prev_phi = phi;
@@ -221,7 +242,7 @@ std::vector<double> Probes<D>::loads(const Simulation<D>& sim) {
       out.push_back(pressure_at(sim, p, k));
     } else if (p.type == "force") {
       if (!forces_done) {  // one reaction pass for all force probes
-        force_.assign(sim.size(), Vec<D>::Zero());
+        force_.assign(sim.store().size(), Vec<D>::Zero());  // the pass may touch ghost slots
         sim.rates().boundary_reaction(sim.grid(), sim.current_view(), force_.data());
         forces_done = true;
       }
@@ -237,6 +258,10 @@ std::vector<double> Probes<D>::loads(const Simulation<D>& sim) {
         M[0] += ri[1] * fi[2] - ri[2] * fi[1];
         M[1] += ri[2] * fi[0] - ri[0] * fi[2];
         M[2] += ri[0] * fi[1] - ri[1] * fi[0];
+      }
+      if (sim.distributed()) {  // sums over every rank's boundary particles (to round-off)
+        sim.comm().sum(F);
+        sim.comm().sum(M);
       }
       for (int a = 0; a < D; ++a) out.push_back(F[a]);
       if (D == 2) out.push_back(M[2]);
@@ -278,7 +303,7 @@ std::vector<double> Probes<D>::sample(const Simulation<D>& sim) {
       double xf = -std::numeric_limits<double>::infinity();
       for (std::size_t i = 0; i < sim.size(); ++i)
         if (f.kind[i] == 0) xf = std::max(xf, double(f.x[i][0]));
-      out.push_back(xf);
+      out.push_back(sim.distributed() ? sim.global_max(xf) : xf);
     }
   }
   return out;

@@ -36,12 +36,17 @@ std::size_t checkpoint_boundary_count(const io::Checkpoint& c, std::size_t parti
   return n;
 }
 
+// What a state snapshot copies: the checkpointed fields and, in a distributed run, the order tags that
+// give the serial summation order (parallel/domain.hpp).
+bool in_snapshot(const FieldBase& f) { return f.flags().checkpointed || f.name() == "parallel_order_tag"; }
+
 }  // namespace
 
 bool restart_may_change(const std::string& k) {
   return k == "time.end" || k == "particles.max_count" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
          starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
-         starts_with(k, "log.") || k == "execution" || starts_with(k, "execution.");  // cpu <-> cuda restarts
+         starts_with(k, "log.") || k == "parallel" || starts_with(k, "parallel.") || k == "execution" ||
+         starts_with(k, "execution.");  // cpu <-> cuda restarts
 }
 
 std::string first_physics_difference(const nlohmann::json& a, const nlohmann::json& b) {
@@ -89,29 +94,32 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
                      "change on restart");
   }
   // a checkpoint written after fluid particles were removed (health.*) holds fewer fluid particles than
-  // the scene builds; boundary particles are never removed, so their count must match
-  if (std::size_t(h.particles) > sim.size())
+  // the scene builds; boundary particles are never removed, so their count must match. In a distributed
+  // run this process holds rows [first_row, first_row + rows) of the checkpoint; the counts are global.
+  if (const std::int64_t built = sim.global_count(); h.particles > built)
     throw InputError(where + "checkpoint has " + std::to_string(h.particles) + " particles, the scene builds " +
-                     std::to_string(sim.size()));
-  const std::size_t ckpt_boundary = checkpoint_boundary_count(c, std::size_t(h.particles), where);
+                     std::to_string(built));
+  const std::size_t ckpt_boundary =
+      std::size_t(sim.global_sum(double(checkpoint_boundary_count(c, std::size_t(c.rows), where))));
   if (ckpt_boundary != sim.count(1))
     throw InputError(where + "checkpoint has " + std::to_string(ckpt_boundary) + " boundary particles, the scene builds " +
                      std::to_string(sim.count(1)) + " (" + std::to_string(h.particles) + " particles in all, the scene " +
-                     std::to_string(sim.size()) + ")");
+                     std::to_string(sim.global_count()) + ")");
   if (h.integrator != sim.integrator().name())
     throw InputError(where + "checkpoint was written by the '" + h.integrator + "' integrator, the scene uses '" +
                      sim.integrator().name() + "'");
   // every checkpointed field of this build must be in the file with the same shape and type
-  const std::size_t n = std::size_t(h.particles);
   for (const auto& f : sim.store().fields()) {
     if (!f->flags().checkpointed) continue;
     const io::CheckpointArray* a = c.find(f->name());
     if (!a) throw InputError(where + "particle field '" + f->name() + "' is missing from the checkpoint");
     if (a->type != f->scalar_type() || a->components != f->components() ||
-        a->bytes.size() != f->bytes_per_particle() * n)
+        a->bytes.size() != f->bytes_per_particle() * std::size_t(c.rows))
       throw InputError(where + "particle field '" + f->name() + "' has another type or shape in the checkpoint");
   }
-  sim.resize_particles(n);
+  // this process's rows of the checkpoint (all of them in one process; a share in a distributed run,
+  // which the sort below sends to their owners)
+  sim.adopt_rows(std::size_t(c.rows), c.first_row);
   for (const auto& f : sim.store().fields()) {
     if (!f->flags().checkpointed) continue;
     const io::CheckpointArray* a = c.find(f->name());
@@ -136,7 +144,7 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
   h.step = sim.step();
   h.time = sim.time();
   h.dt = sim.dt();
-  h.particles = std::int64_t(sim.size());
+  h.particles = sim.global_count();
   h.scene = sim.scene().resolved;
   auto& integ = sim.integrator();
   h.integrator = integ.name();
@@ -148,7 +156,8 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
 template <int D>
 void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_state) {
   const auto& fields = sim.store().fields();
-  particles_ = sim.size();
+  stored_ = sim.store().size();  // owned particles and, in a distributed run, ghosts
+  owned_ = sim.size();
   buffers_.resize(sim.on_device() ? 0 : fields.size());
   if (sim.on_device()) {  // a device run keeps its copy on the device (no transfer per step)
     sim.device()->snapshot_capture();
@@ -156,7 +165,7 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
   }
   for (std::size_t k = 0; k < buffers_.size(); ++k) {
     const auto& f = fields[k];
-    if (!f->flags().checkpointed) continue;
+    if (!in_snapshot(*f)) continue;
     const std::size_t n = f->bytes_per_particle() * f->size();
     buffers_[k].resize(n);  // no reallocation after the first capture
     if (n) std::memcpy(buffers_[k].data(), f->raw(), n);
@@ -172,29 +181,41 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
 template <int D>
 void StateSnapshot<D>::restore(Simulation<D>& sim) const {
   if (sim.on_device()) sim.device()->snapshot_restore();  // device runs remove no particles (docs/gpu.md)
-  // particles removed after the capture (health.*) come back with the rest of the state
-  else if (sim.size() != particles_) sim.resize_particles(particles_);
+  // particles removed after the capture (health.*) come back with the rest of the state; a distributed
+  // step may have moved particles between ranks: back to the captured rows
+  else sim.store().resize(stored_);
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
-    if (!f->flags().checkpointed || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
+    if (!in_snapshot(*f) || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
     if (!buffers_[k].empty()) std::memcpy(f->raw(), buffers_[k].data(), buffers_[k].size());
   }
-  sim.recount_kinds();
   sim.set_clock(time_, step_);
   sim.set_dt(dt_);
   sim.integrator().restore_state(integrator_state_);
+  if (sim.distributed()) {  // owned rows back in place, ghosts and grid rebuilt for them (collective)
+    sim.adopt_rows(owned_, -1);  // with the captured order tags: the serial summation order
+    sim.recount_kinds();
+    sim.rebin();
+  } else {
+    sim.recount_kinds();
+  }
 }
 
 template <int D>
 long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
   if (sim.on_device()) sim.device()->snapshot_restore();  // the device's own copy, binned there
+  // particles removed after the capture come back; a distributed step may have moved particles
+  // between ranks: back to the captured rows (owned first, ghosts after them)
+  else sim.store().resize(stored_);
   const auto& fields = sim.store().fields();
   for (std::size_t k = 0; k < fields.size() && k < buffers_.size(); ++k) {
     const auto& f = fields[k];
-    if (!f->flags().checkpointed || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
+    if (!in_snapshot(*f) || buffers_[k].size() != f->bytes_per_particle() * f->size()) continue;
     if (!buffers_[k].empty()) std::memcpy(f->raw(), buffers_[k].data(), buffers_[k].size());
   }
+  if (sim.distributed()) sim.adopt_rows(owned_, -1);  // ghosts dropped, order tags kept (collective below)
+  sim.recount_kinds();
   // the order of restore_from_checkpoint(): the arrays are in the captured step's cell order, and the
   // stable sort rebuilds its grid without moving them
   sim.set_clock(time_, step_);

@@ -55,7 +55,7 @@ class StateSnapshot {
   std::size_t device_bytes_ = 0;  // a device run's copy lives on the device
   double time_ = 0, dt_ = 0;
   long step_ = 0;
-  std::size_t particles_ = 0;
+  std::size_t stored_ = 0, owned_ = 0;
   nlohmann::json integrator_state_, runner_state_;
   bool valid_ = false;
 };

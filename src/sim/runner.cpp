@@ -20,6 +20,10 @@
 #include "io/csv_table.hpp"
 #include "io/pvd_series.hpp"
 #include "io/run_directory.hpp"
+#include "parallel/collective.hpp"
+#include "parallel/communicator.hpp"
+#include "parallel/domain.hpp"
+#include "parallel/run_output.hpp"
 #include "sim/build_info.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/frame_export.hpp"
@@ -46,7 +50,9 @@ const std::vector<std::string> kDiagnosticColumns = {
     "kinetic_energy", "potential_energy", "internal_energy", "max_speed", "density_error_max", "wall_seconds",
     "fp_iterations_mean", "fp_iterations_max", "fp_residual_max", "fp_contraction_max", "dt_bound",
     // health.* (sim/health.hpp): fluid particles now, and removed since the start per rule
-    "fluid_particles", "removed_domain", "removed_density", "removed_speed"};
+    "fluid_particles", "removed_domain", "removed_density", "removed_speed",
+    // slowest rank's busy time over the mean (1 in one process; docs/parallel.md): appended last
+    "imbalance"};
 
 const std::vector<std::string> kRemovedColumns = {
     "time", "step", "id", "rule", "x", "y", "z", "vx", "vy", "vz", "density", "pressure", "fluid_neighbours",
@@ -55,7 +61,9 @@ const std::vector<std::string> kRemovedColumns = {
 template <int D>
 class Runner {
  public:
-  Runner(const scene::Scene& s, const RunOptions& o) : scene_(s), opt_(o), health_(s) {}
+  Runner(const scene::Scene& s, const RunOptions& o)
+      : scene_(s), opt_(o), comm_(o.comm ? o.comm : std::make_shared<parallel::SerialCommunicator>()),
+        root_(comm_->root()), quiet_(o.quiet || !comm_->root()), health_(s) {}
 
   int run() {
     using clock = std::chrono::steady_clock;
@@ -63,14 +71,20 @@ class Runner {
     // a restart checkpoint is read and validated before the run directory is touched (exit 2, nothing
     // overwritten)
     std::optional<io::Checkpoint> ckpt;
-    if (!opt_.restart.empty()) ckpt = io::read_checkpoint(opt_.restart);
-    Simulation<D> sim(scene_);
+    auto& comm = *comm_;
+    if (!opt_.restart.empty())  // each rank reads its share of the rows (all of them in one process)
+      parallel::collectively(comm, [&] { ckpt = io::read_checkpoint(opt_.restart, comm.rank(), comm.size()); });
+    Simulation<D> sim(scene_, comm_);
     Probes<D> probes(scene_);
     if (ckpt) {
       restore_from_checkpoint(sim, *ckpt, opt_.restart.string());
       ckpt->arrays = {};  // the header (runner state) is still needed; the particle copy is not
     }
-    dir_ = io::prepare_run_directory(opt_.output_dir, scene_.name, opt_.overwrite, !opt_.restart.empty());
+    parallel::collectively(comm, [&] {  // rank 0 prepares the directory; an error stops every rank
+      if (root_) dir_ = io::prepare_run_directory(opt_.output_dir, scene_.name, opt_.overwrite, !opt_.restart.empty());
+    });
+    if (!root_) dir_ = io::RunDirectory{opt_.output_dir, scene_.name};
+    dir_.pieces = comm.size() > 1;
     started_ = iso_now();
     t0_ = clock::now();
     last_checkpoint_wall_ = t0_;
@@ -93,8 +107,8 @@ class Runner {
     open_outputs(sim, probes, ckpt);
     write_run_json(sim, "running", "");
 
-    const bool tty = isatty(STDOUT_FILENO) && !opt_.quiet;
-    if (!opt_.quiet) {
+    const bool tty = isatty(STDOUT_FILENO) && !quiet_;
+    if (!quiet_) {
       std::printf("varsph: %s: %zu fluid + %zu boundary particles, dt %.3g s, to t = %g s -> %s\n",
                   scene_.name.c_str(), sim.count(0), sim.count(1), sim.dt(), scene_.t_end,
                   dir_.root.string().c_str());
@@ -120,7 +134,9 @@ class Runner {
       }
       StepReport rep;
       try {
+        const auto t_step = clock::now();
         rep = sim.advance();
+        step_seconds_ += seconds_since(t_step);
       } catch (const NumericalError& e) {  // e.g. a fixed point that did not converge (on_failure = fail)
         // the integrator left the state at the last accepted step: write it as the last good frame and
         // checkpoint
@@ -136,7 +152,7 @@ class Runner {
       warn_dt_bound(sim.dt(), rep.dt_bound, sim.step());
       last_frame_at_current_ = false;
       // device runs keep the strict check (a violation stops the run; no removal on the device: docs/gpu.md)
-      if (const std::string bad = sim.on_device() ? exec::check_device_health(sim) : health_.after_step(sim); !bad.empty()) {
+      if (const std::string bad = sim.on_device() ? exec::check_device_health(sim) : health_.after_step(sim); !bad.empty()) {  // agreed by every rank
         failure = handle_blow_up(sim, bad);
         exit_code = kExitNumerical;
         break;
@@ -147,6 +163,9 @@ class Runner {
         else write_frame(sim);
         while (next_frame_ <= sim.time() + 0.5 * sim.dt()) next_frame_ += scene_.output_every;
       }
+      // point queries (pressure probes) read ghosts: their density and pressure are the owners' of the
+      // last pass, not of the step's end (one exchange per step, distributed runs with probes only)
+      if (!probes.empty() && sim.distributed()) sim.refresh_halo(sim.current_view());
       if (!probes.empty()) {  // load probes integrate over their interval
         if (sim.on_device() && has_load_probes()) sim.sync_host();  // they read the state every step
         probes.accumulate(sim);
@@ -167,13 +186,14 @@ class Runner {
         std::printf("\r  t = %.4f / %.4f s   step %ld   %.0f steps/s   ETA %.0f s   ", sim.time(), scene_.t_end,
                     sim.step(), rate, eta);
         std::fflush(stdout);
-      } else if (!opt_.quiet && (seconds_since(last_log) > 10.0 ||
+      } else if (!quiet_ && (seconds_since(last_log) > 10.0 ||
                                  (scene_.log_every_steps > 0 && sim.step() % scene_.log_every_steps == 0))) {
         last_log = clock::now();
         std::printf("  t = %.4f / %.4f s, step %ld, %.1f s wall\n", sim.time(), scene_.t_end, sim.step(), wall);
         std::fflush(stdout);
       }
-      if (const int sig = g_signal) {
+      // a signal on any rank stops every rank after the same step
+      if (const int sig = comm_->size() > 1 ? int(comm_->max(double(g_signal))) : int(g_signal)) {
         // the step is finished: write a frame and a checkpoint of it, then stop
         flush_deferred(sim);
         if (!last_frame_at_current_) write_frame(sim);
@@ -197,10 +217,10 @@ class Runner {
     write_run_json(sim, exit_code == kExitOk ? "completed" : (exit_code == kExitNumerical ? "failed" : "interrupted"),
                    failure);
     if (exit_code != kExitOk) {
-      std::fprintf(stderr, "varsph: %s\n", failure.c_str());
+      if (root_) std::fprintf(stderr, "varsph: %s\n", failure.c_str());
       return exit_code;
     }
-    if (!opt_.quiet)
+    if (!quiet_)
       std::printf("varsph: done: %ld steps in %.2f s (%.1f ns per fluid particle-step); %s%s\n", steps_, wall,
                   wall / std::max(particle_steps_, 1.0) * 1e9, dir_.pvd().string().c_str(), removal_summary().c_str());
     return kExitOk;
@@ -248,22 +268,26 @@ class Runner {
         keep_up_to = sim.time();
         pvd_->load();
         pvd_->truncate_after(keep_up_to + io::kFrameTimeDrift);  // .pvd times are rounded (pvd_series.hpp)
-        pvd_->write();
-        drop_later_files(sim.step());
+        on_root([&] {
+          pvd_->write();
+          drop_later_files(sim.step());
+        });
       }
       last_frame_name_ = "(none since the restart)";
     }
-    diag_.open(dir_.diagnostics(), kDiagnosticColumns, keep_up_to);
-    removed_csv_.open(dir_.removed(), kRemovedColumns, keep_up_to);
+    on_root([&] {  // rank 0 writes the tables
+      diag_.open(dir_.diagnostics(), kDiagnosticColumns, keep_up_to);
+      removed_csv_.open(dir_.removed(), kRemovedColumns, keep_up_to);
+      if (!probes.empty()) {
+        std::vector<std::string> cols = {"time"};
+        for (auto& c : probes.columns()) cols.push_back(c);
+        probes_csv_.open(dir_.probes(), cols, keep_up_to);
+      }
+    });
     if (ckpt && ckpt->header.runner_state.contains("health"))
       health_.restore_state(ckpt->header.runner_state.at("health"));
     else
-      health_.start(sim);
-    if (!probes.empty()) {
-      std::vector<std::string> cols = {"time"};
-      for (auto& c : probes.columns()) cols.push_back(c);
-      probes_csv_.open(dir_.probes(), cols, keep_up_to);
-    }
+      health_.start(sim);  // collective in a distributed run
   }
 
   bool in_own_directory() const {
@@ -279,10 +303,13 @@ class Runner {
     namespace fs = std::filesystem;
     std::error_code ec;
     for (const auto& [s, p] : io::list_checkpoints(dir_.checkpoints()))
-      if (s > step) fs::remove(p, ec);
-    for (long k = frame_index_;; ++k) {
-      if (!fs::exists(dir_.frame(k), ec)) break;
-      fs::remove(dir_.frame(k), ec);
+      if (s > step) io::remove_checkpoint(p);
+    for (long k = frame_index_;; ++k) {  // .vtu or .pvtu: the run may have had another number of ranks
+      io::RunDirectory other = dir_;
+      other.pieces = !dir_.pieces;
+      if (!fs::exists(dir_.frame(k), ec) && !fs::exists(other.frame(k), ec)) break;
+      dir_.remove_frame(k);
+      other.remove_frame(k);
     }
   }
 
@@ -323,31 +350,36 @@ class Runner {
       due = true;
       while (next_checkpoint_ <= sim.time() + 0.5 * sim.dt()) next_checkpoint_ += scene_.checkpoint_every;
     }
-    if (scene_.checkpoint_wall_minutes > 0 &&
-        seconds_since(last_checkpoint_wall_) >= 60.0 * scene_.checkpoint_wall_minutes)
-      due = true;
+    if (scene_.checkpoint_wall_minutes > 0) {
+      bool late = seconds_since(last_checkpoint_wall_) >= 60.0 * scene_.checkpoint_wall_minutes;
+      if (comm_->size() > 1) late = comm_->max(late ? 1.0 : 0.0) > 0;  // rank clocks differ: agree
+      due = due || late;
+    }
     return due;
   }
 
   // Writes DIR/checkpoints/step_N.h5 atomically and keeps the last two; returns its path.
   std::string write_checkpoint(Simulation<D>& sim) {
     const auto path = dir_.checkpoints() / io::checkpoint_file_name(sim.step());
-    if (last_checkpoint_step_ != sim.step() || !std::filesystem::exists(path)) {
+    const bool exists = comm_->size() > 1 ? comm_->max(std::filesystem::exists(path) ? 1.0 : 0.0) > 0
+                                          : std::filesystem::exists(path);
+    if (last_checkpoint_step_ != sim.step() || !exists) {
       sim.sync_host();  // a device run's state into the store
       write_checkpoint_of(sim, checkpoint_header(sim, runner_state()));
     }
     return path.string();
   }
-  // The store as it is, under `h` (its step names the file); keeps the last two.
+  // The store as it is, under `h` (its step names the file); keeps the last two. Collective.
   void write_checkpoint_of(Simulation<D>& sim, const io::CheckpointHeader& h) {
     const auto path = dir_.checkpoints() / io::checkpoint_file_name(h.step);
     {
-      io::write_checkpoint(path, h, sim.store());
+      parallel::write_checkpoint(*comm_, path, h, sim.store(), sim.size());
       last_checkpoint_step_ = h.step;
       last_checkpoint_wall_ = std::chrono::steady_clock::now();
-      auto all = io::list_checkpoints(dir_.checkpoints());
-      std::error_code ec;
-      for (std::size_t k = 0; k + 2 < all.size(); ++k) std::filesystem::remove(all[k].second, ec);
+      if (root_) {
+        auto all = io::list_checkpoints(dir_.checkpoints());
+        for (std::size_t k = 0; k + 2 < all.size(); ++k) io::remove_checkpoint(all[k].second);
+      }
     }
   }
 
@@ -412,7 +444,10 @@ class Runner {
 
   // --- particles removed by the health rules ------------------------------------------------------
   // One removed.csv row per particle; the first removal of each rule is also reported on stderr.
-  void write_removed() {
+  void write_removed() {  // every rank holds the same list (HealthMonitor gathers it); rank 0 writes
+    on_root([&] { write_removed_rows(); });
+  }
+  void write_removed_rows() {
     using io::CsvTable;
     for (const RemovedParticle& p : health_.last_removed()) {
       removed_csv_.row({CsvTable::num(p.time), CsvTable::num(p.step), CsvTable::num(long(p.id)),
@@ -445,13 +480,14 @@ class Runner {
     flush_deferred(sim);
     sim.sync_host();  // probes read the store (a device run copies its state back first)
     std::vector<std::string> row = {io::CsvTable::num(sim.time())};
-    for (double v : probes.sample(sim)) row.push_back(io::CsvTable::num(v));
-    probes_csv_.row(row);
+    for (double v : probes.sample(sim)) row.push_back(io::CsvTable::num(v));  // collective
+    on_root([&] { probes_csv_.row(row); });
   }
 
   void warn_dt_bound(double dt, double bound, long step) {
     if (bound <= 0 || dt <= bound || warned_dt_bound_) return;
     warned_dt_bound_ = true;
+    if (!root_) return;  // the same warning on every rank: rank 0 prints it
     std::fprintf(stderr,
                  "varsph: warning: dt = %.3g s exceeds the fixed-point bound of eq. (54), about %.3g s (step %ld); "
                  "the iterations may stop converging\n",
@@ -477,8 +513,9 @@ class Runner {
     io::FrameData fd = frame_from(sim, scene_.output_fields, scene_.output_precision == "float64");
     fd.time = time;
     fd.step = step;
-    io::write_vtu(dir_.frame(index).string(), fd);
-    pvd_->add(io::frame_time_label(time, scene_.output_every), dir_.frame_relative(index));  // the deferred frame's time
+    fd.count = sim.size();  // owned particles (a piece per rank when distributed)
+    const std::string rel = parallel::write_frame(*comm_, dir_, index, fd);
+    on_root([&] { pvd_->add(io::frame_time_label(time, scene_.output_every), rel); });  // the deferred frame's time
     last_frame_name_ = dir_.frame_relative(index);
     last_frame_at_current_ = true;
     last_frame_step_ = step;
@@ -501,14 +538,40 @@ class Runner {
     }
     row.push_back(CsvTable::num(long(sim.count(0))));
     for (const long c : health_.removed()) row.push_back(CsvTable::num(c));
-    diag_.row(row);
+    // slowest rank's busy time over the mean since the previous row (1 in one process; collective)
+    row.push_back(CsvTable::num(sim.distributed() ? sim.domain()->imbalance_since_last_report() : 1.0));
+    on_root([&] { diag_.row(row); });
     fp_steps_ = 0;
     fp_iter_sum_ = 0;
     fp_iter_max_ = 0;
     fp_res_max_ = fp_contr_max_ = 0;
   }
 
-  void write_run_json(const Simulation<D>& sim, const std::string& status, const std::string& message) {
+  // Work only rank 0 does (the run's single files), with its errors agreed on by every rank.
+  template <class F>
+  void on_root(F&& f) {
+    parallel::collectively(*comm_, [&] {
+      if (root_) f();
+    });
+  }
+
+  // Ranks, threads and the decomposition's counters (summed over ranks) for run.json.
+  nlohmann::json parallel_summary(Simulation<D>& sim) {
+    nlohmann::json p = {{"ranks", comm_->size()}, {"threads_per_rank", omp_get_max_threads()}};
+    if (auto* d = sim.domain()) {
+      const auto& st = d->stats();
+      double v[4] = {double(st.repartitions), double(st.migrated), double(st.halo_bytes_sent), double(st.rebins)};
+      comm_->sum(v);
+      p["repartitions"] = std::int64_t(v[0]) / comm_->size();
+      p["particles_migrated"] = std::int64_t(v[1]);
+      p["halo_bytes_sent"] = v[2];
+      p["rebins"] = std::int64_t(v[3]) / comm_->size();
+      p["max_particles_per_rank"] = comm_->max(double(sim.size()));
+    }
+    return p;
+  }
+
+  void write_run_json(Simulation<D>& sim, const std::string& status, const std::string& message) {
     nlohmann::json j;
     j["program"] = "varsph";
     j["version"] = VARSPH_VERSION;
@@ -537,14 +600,18 @@ class Runner {
                       {"threads", omp_get_max_threads()},
                       {"pair_sweep", sim.rates().simd()},
                       {"last_good_copy_seconds", snapshot_seconds_},
+                      {"step_seconds", step_seconds_},
                       {"last_good_every_steps", kLastGoodEvery},
                       {"last_good_copy_bytes", last_good_.bytes()}};
     }
-    io::write_text_atomically(dir_.run_json(), j.dump(2) + "\n");
+    j["parallel"] = parallel_summary(sim);  // collective
+    on_root([&] { io::write_text_atomically(dir_.run_json(), j.dump(2) + "\n"); });
   }
 
   const scene::Scene& scene_;
   RunOptions opt_;
+  std::shared_ptr<parallel::Communicator> comm_;
+  bool root_ = true, quiet_ = false;
   io::RunDirectory dir_;
   std::unique_ptr<io::PvdSeries> pvd_;
   Probes<D>* probes_ = nullptr;  // the run loop's probes (their accumulation goes into checkpoints)
@@ -556,6 +623,7 @@ class Runner {
   std::chrono::steady_clock::time_point last_checkpoint_wall_;
   StateSnapshot<D> last_good_;
   double snapshot_seconds_ = 0;
+  double step_seconds_ = 0;  // wall time inside Simulation::advance (no output, health or snapshot)
   std::string started_, last_frame_name_ = "(none)";
   std::chrono::steady_clock::time_point t0_;
   long frame_index_ = 0, steps_ = 0;

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/errors.hpp"
+#include "parallel/communicator.hpp"
+#include "parallel/domain.hpp"
+#include "parallel/halo_rates.hpp"
 #include "exec/device_run.hpp"
 #include "physics/pair_loop.hpp"
 #include "integrators/time_step_control.hpp"
@@ -77,8 +81,9 @@ physics::PhysicsParams<D> params_from(const scene::Scene& s) {
 }  // namespace
 
 template <int D>
-Simulation<D>::Simulation(const scene::Scene& scene)
-    : scene_(scene), f_(store_), params_(params_from<D>(scene)), eos_(Real(scene.rho0), Real(scene.c0), Real(scene.background_pressure)) {
+Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::Communicator> comm)
+    : scene_(scene), f_(store_), params_(params_from<D>(scene)), eos_(Real(scene.rho0), Real(scene.c0), Real(scene.background_pressure)),
+      comm_(comm ? std::move(comm) : std::make_shared<parallel::SerialCommunicator>()) {
   if (scene.dimension != D) throw std::logic_error("scene dimension does not match Simulation<D>");
   exec::check_device_scene(scene);  // a device this build or machine lacks, or a term not on it: exit 2 now
   rates_ = physics::make_rates<D>(params_);
@@ -123,6 +128,36 @@ Simulation<D>::Simulation(const scene::Scene& scene)
       wall_acc_ = &store_.add<Vec<D>>("wall_acceleration", {.exported = false});
   }
   integrator_ = make_integrator<D>(scene);
+  if (comm_->size() > 1 && scene.device != "cpu")
+    throw InputError(scene.file.string() + ": execution.device = \"" + scene.device + "\" is not available on several "
+                     "MPI ranks yet (docs/parallel.md, Limits); run it in one process or on the CPU");
+  if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
+    // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
+    throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
+                     "(docs/parallel.md, Limits); run it in one process or use \"dynamic\" or \"dummy_adami\" walls");
+  if (comm_->size() > 1) {
+    // distributed: every rank built every particle (the same, deterministically); rank r keeps rows
+    // [n r / P, n (r+1) / P) in id order, and the first sort_and_bin() moves them to their owners
+    parallel::DomainOptions o;
+    o.fluid_weight = scene.fluid_weight;
+    o.boundary_weight = scene.boundary_weight;
+    o.threshold = scene.rebalance_threshold;
+    o.check_every = scene.rebalance_check_every;
+    o.force_every = scene.rebalance_every;
+    domain_ = std::make_unique<parallel::Domain<D>>(comm_, o);
+    domain_->attach(store_, {"position", "velocity", "density", "pressure", "mass", "kind", "id", "normal", "body",
+                             "wall_velocity"});
+    const std::size_t P = std::size_t(comm_->size()), r = std::size_t(comm_->rank());
+    const std::size_t first = n * r / P, last = n * (r + 1) / P;
+    for (const auto& fb : store_.fields()) {
+      const std::size_t b = fb->bytes_per_particle();
+      auto* raw = static_cast<std::byte*>(fb->raw());
+      if (last > first) std::memmove(raw, raw + first * b, (last - first) * b);
+    }
+    store_.resize(last - first);
+    domain_->adopt(store_, std::int64_t(first));
+    rates_ = std::make_unique<parallel::HaloRates<D>>(std::move(rates_), *domain_);
+  }
   // shifting moves particles by at most max_shift dx after the sort; a skin of twice that keeps the grid
   // valid for the shifted configuration (density update, next step's forces) without a second sort
   set_skin(rates_->shifting_enabled() ? Real(2) * params_.shifting.max_shift * params_.dx : Real(0));
@@ -169,6 +204,53 @@ void Simulation<D>::host_state_changed() {
 }
 
 template <int D>
+std::size_t Simulation<D>::ghosts() const {
+  return domain_ ? domain_->ghosts() : 0;
+}
+
+template <int D>
+double Simulation<D>::global_max(double v) const {
+  return comm_->max(v);
+}
+
+template <int D>
+double Simulation<D>::global_sum(double v) const {
+  return comm_->sum(v);
+}
+
+template <int D>
+std::int64_t Simulation<D>::global_count() const {
+  return comm_->sum(std::int64_t(size()));
+}
+
+template <int D>
+bool Simulation<D>::owns_point(const Vec<D>& x) const {
+  return !domain_ || domain_->owns(x);
+}
+
+template <int D>
+std::unique_ptr<physics::Rates<D>> Simulation<D>::make_rates(const physics::PhysicsParams<D>& p) {
+  auto r = physics::make_rates<D>(p);
+  if (domain_) return std::make_unique<parallel::HaloRates<D>>(std::move(r), *domain_);
+  return r;
+}
+
+template <int D>
+void Simulation<D>::refresh_halo(const physics::ParticleView<D>& view) {
+  if (!domain_) return;
+  std::vector<parallel::HaloArray> arrays;
+  parallel::refresh_view(*domain_, view, parallel::kHaloPositions | parallel::kHaloVelocities | parallel::kHaloState,
+                         arrays);
+}
+
+template <int D>
+void Simulation<D>::adopt_rows(std::size_t n, std::int64_t first_row) {
+  store_.resize(n);
+  if (domain_ && first_row < 0) domain_->restore_owned(n);
+  else if (domain_) domain_->adopt(store_, first_row);
+}
+
+template <int D>
 std::size_t Simulation<D>::count(std::int32_t kind) const {
   return kind == 0 ? n_fluid_ : n_boundary_;
 }
@@ -176,13 +258,19 @@ std::size_t Simulation<D>::count(std::int32_t kind) const {
 template <int D>
 void Simulation<D>::recount_kinds() {
   n_fluid_ = n_boundary_ = 0;
-  for (const std::int32_t k : f_.kind.data) (k == 0 ? n_fluid_ : n_boundary_) += 1;
+  for (std::size_t i = 0; i < size(); ++i) (f_.kind[i] == 0 ? n_fluid_ : n_boundary_) += 1;
+  if (domain_) {  // counts of the whole run on every rank (collective)
+    std::int64_t c[2] = {std::int64_t(n_fluid_), std::int64_t(n_boundary_)};
+    comm_->sum(std::span<std::int64_t>(c, 2));
+    n_fluid_ = std::size_t(c[0]);
+    n_boundary_ = std::size_t(c[1]);
+  }
 }
 
 template <int D>
 void Simulation<D>::remove_particles(std::span<const std::uint32_t> indices) {
-  if (indices.empty()) return;
-  const std::size_t n = store_.size();
+  if (indices.empty() && !domain_) return;
+  const std::size_t n = size();  // owned particles (ghosts are rebuilt, never removed)
   kept_.clear();
   kept_.reserve(n - indices.size());
   std::size_t r = 0;
@@ -194,6 +282,13 @@ void Simulation<D>::remove_particles(std::span<const std::uint32_t> indices) {
     kept_.push_back(i);
   }
   if (r != indices.size()) throw std::logic_error("Simulation::remove_particles: indices not ascending or out of range");
+  if (domain_) {  // collective: the survivors keep their order tags, rebin() rebuilds the ghosts and grid
+    domain_->compact_owned(store_, kept_);
+    recount_kinds();
+    domain_->rebin(store_, grid_, position_like_);
+    if (wall_v_) update_pressure();
+    return;
+  }
   store_.compact(kept_);
   recount_kinds();
   // the survivors keep their cell order, so this stable sort only rebuilds the blocks and ranges
@@ -229,6 +324,15 @@ template <int D>
 void Simulation<D>::sort_and_bin() {
   // moving walls take their place in the new configuration (time t + dt) before binning
   if (motion_ && motion_->active()) move_boundaries(time_ + dt_);
+  rebin();
+}
+
+template <int D>
+void Simulation<D>::rebin() {
+  if (domain_) {  // migrate, order as one process would, ghosts, grid (parallel/domain.hpp)
+    domain_->rebin(store_, grid_, position_like_);
+    return;
+  }
   auto& x = f_.x.data;
   bool any_periodic = false;
   for (int a = 0; a < D; ++a) any_periodic |= scene_.periodic[a];
@@ -270,7 +374,7 @@ void Simulation<D>::apply_shifting() {
   rates_->shifting(grid_, current_view(), Real(dt_), dr);
   Vec<D>* x = f_.x.data.data();
   const std::int32_t* kind = f_.kind.data.data();
-  for_each_particle(store_.size(), [&](std::size_t i) {
+  for_each_particle(size(), [&](std::size_t i) {
     if (kind[i] == 0) x[i] += dr[i];  // positions only: velocities, masses, momentum unchanged
   });
 }
@@ -305,7 +409,7 @@ void Simulation<D>::update_density_after_move(Real dt) {
     Real* rho = f_.rho.data.data();
     const std::int32_t* kind = f_.kind.data.data();
     const bool walls = params_.boundary == physics::BoundaryModel::Dynamic;
-    for_each_particle(store_.size(), [&](std::size_t i) {
+    for_each_particle(size(), [&](std::size_t i) {
       if (kind[i] == 0 || walls) rho[i] += dt * drho[i];
     });
   }
@@ -327,8 +431,10 @@ template <int D>
 const StepReport& Simulation<D>::advance() {
   if (motion_->active()) move_boundaries(time_);  // walls at t_k for the forces of this step
   rates_->set_time(time_);  // gravity ramp, damping window
+  if (domain_) domain_->step_begin();
   report_ = integrator_->step(*this);
   ++step_;
+  if (domain_) domain_->step_end(step_);  // load balance: may schedule a repartition for the next sort
   // fixed dt: t = t0 + k dt exactly as two runs with the same dt compute it (frames match by time)
   time_ += dt_;
   if (scene_.shepard_reinit_every > 0 && step_ % scene_.shepard_reinit_every == 0) reinitialise_density();
@@ -338,13 +444,14 @@ const StepReport& Simulation<D>::advance() {
 template <int D>
 void Simulation<D>::reinitialise_density() {
   rho_scratch_.resize(store_.size());
+  refresh_halo(current_view());  // Shepard sums read the neighbours' positions, masses and densities
   const auto o = physics::corrections::Options::of(params_);
   physics::corrections::shepard_density<D>(grid_, current_view(), o, rho_scratch_);
   Real* rho = f_.rho.data.data();
   const std::int32_t* kind = f_.kind.data.data();
   const Real* out = rho_scratch_.data();
   // fluid particles only: wall densities (dynamic model) keep their own continuity evolution
-  for_each_particle(store_.size(), [&](std::size_t i) {
+  for_each_particle(size(), [&](std::size_t i) {
     if (kind[i] == 0) rho[i] = out[i];
   });
   update_pressure();

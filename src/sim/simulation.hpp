@@ -21,6 +21,12 @@
 
 namespace varsph {
 
+namespace parallel {
+class Communicator;
+template <int D>
+class Domain;
+}  // namespace parallel
+
 template <int D>
 class Simulation;
 namespace exec {
@@ -64,7 +70,8 @@ std::unique_ptr<Integrator<D>> make_integrator(const scene::Scene& s);
 template <int D>
 class Simulation {
  public:
-  explicit Simulation(const scene::Scene& scene);
+  // `comm`: the ranks of a distributed run (parallel/session.hpp); null or one rank runs the serial code.
+  explicit Simulation(const scene::Scene& scene, std::shared_ptr<parallel::Communicator> comm = nullptr);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
@@ -84,7 +91,10 @@ class Simulation {
   long step() const { return step_; }
   double dt() const { return dt_; }
   std::size_t count(std::int32_t kind) const;
-  std::size_t size() const { return store_.size(); }
+  // Particles this process owns (all of them in one process): integrators and reductions loop over
+  // [0, size()); a distributed run keeps ghost copies of other ranks' particles after them in the store.
+  std::size_t size() const { return store_.size() - ghosts(); }
+  std::size_t ghosts() const;
 
   // One step of the integrator; updates time, step and the step report.
   const StepReport& advance();
@@ -95,6 +105,8 @@ class Simulation {
   // the neighbour grid. `extra_skin` enlarges the cells so the grid stays valid while particles move
   // less than extra_skin / 2 (the variational iterations reuse it).
   void sort_and_bin();
+  // The same without moving walls: wraps, sorts and bins the particles where they are.
+  void rebin();
   // Extra shift applied to position-like fields (previous positions) when wrapping periodically.
   void register_position_like(Field<Vec<D>>* f) { position_like_.push_back(f); }
   void set_skin(Real skin);
@@ -139,15 +151,38 @@ class Simulation {
   // The store was written on the host (restart from a checkpoint): send it to the device.
   void host_state_changed();
 
+  // --- distributed runs (src/parallel/; in one process these are identities) -----------------------
+  // Integrators and output reduce through these instead of calling MPI: every rank gets the result.
+  bool distributed() const { return domain_ != nullptr; }
+  parallel::Communicator& comm() const { return *comm_; }
+  parallel::Domain<D>* domain() { return domain_.get(); }
+  double global_max(double v) const;
+  double global_sum(double v) const;
+  std::int64_t global_count() const;  // particles on all ranks
+  // True on the one rank whose cells hold x (always in one process): point queries (probes) are
+  // computed there, where every neighbour of x is an owned or ghost particle in the serial order.
+  bool owns_point(const Vec<D>& x) const;
+  // Rates for other parameters (the variational integrator's wall-free passes), with the halo
+  // exchange of a distributed run in front of every pass.
+  std::unique_ptr<physics::Rates<D>> make_rates(const physics::PhysicsParams<D>& p);
+  // Owners' positions, velocities, densities and pressures of a view into the ghosts (for a pair loop
+  // run outside the Rates passes); no-op in one process.
+  void refresh_halo(const physics::ParticleView<D>& view);
+  // The store now holds `n` particles that are rows [first_row, first_row + n) of a checkpoint (or of a
+  // captured state) and no ghosts; the next sort_and_bin() partitions them anew. Restart and blow-up.
+  // first_row < 0: the rows' order tags were restored with them (StateSnapshot) and are kept.
+  void adopt_rows(std::size_t n, std::int64_t first_row);
   // --- particle removal (sim/health.*; a store-level operation a decomposition layer can call too) ----
   // Removes the particles at the given storage indices (strictly ascending) from every registered field
   // (ParticleStore::compact keeps the survivors' order and `id`), recounts the kinds and rebuilds the
   // neighbour grid for the survivors without moving walls; dummy walls re-extrapolate their pressure from
   // the fluid that is left. Integrator state lives in registered fields, so it stays consistent.
+  // Distributed: owned indices; collective (every rank calls it when any rank removes, maybe with none).
   void remove_particles(std::span<const std::uint32_t> indices);
   // Resizes the store to n particles (restart from a checkpoint written after removals: the arrays are
   // copied in afterwards) and recounts the particle kinds from the `kind` field.
   void resize_particles(std::size_t n) { store_.resize(n); }
+  // Counts of the whole run (owned particles summed over ranks: collective in a distributed run).
   void recount_kinds();
 
  private:
@@ -175,6 +210,8 @@ class Simulation {
   double time_ = 0, dt_ = 0;
   long step_ = 0;
   StepReport report_;
+  std::shared_ptr<parallel::Communicator> comm_;  // one rank: a SerialCommunicator
+  std::unique_ptr<parallel::Domain<D>> domain_;   // null in one process
 };
 
 }  // namespace varsph

@@ -127,8 +127,10 @@ void judge_ablation(AblationResult& a, const LevelRun& base, const std::vector<Q
     e.effect = quantity_difference(sb, sv, q.kind, q.window, norm);
     e.error = level < q.est.error.size() ? q.est.error[level] : std::numeric_limits<double>::quiet_NaN();
     if (!std::isfinite(e.effect)) continue;
-    e.ratio = e.error > 0 ? e.effect / e.error
-                          : (e.effect > 0 ? std::numeric_limits<double>::infinity() : 0.0);
+    // a difference at the rounding floor is no effect, whatever the (equally rounding-sized) error it meets
+    e.ratio = (e.effect <= q.noise || (q.rounding_only && q.kind == Kind::PeakTime)) ? 0.0
+              : e.error > 0      ? e.effect / e.error
+                                 : std::numeric_limits<double>::infinity();
     if (!std::isfinite(e.error)) e.ratio = std::numeric_limits<double>::quiet_NaN();
     a.effects.push_back(e);
   }

@@ -37,7 +37,8 @@ std::string quantity_name(const std::string& series, Kind k, const Window& w, No
          w.label() + "]";
 }
 
-void scalar_quantity(Quantity& q, const AnalysisInput& in, const std::vector<Series>& s) {
+// `floor_mag`: the largest magnitude of the vector this series is a component of (0 when it is none)
+void scalar_quantity(Quantity& q, const AnalysisInput& in, const std::vector<Series>& s, double floor_mag) {
   const std::size_t L = s.size();
   q.values.assign(L, kNaN);
   double mag = 0, sampling = 0;
@@ -53,7 +54,9 @@ void scalar_quantity(Quantity& q, const AnalysisInput& in, const std::vector<Ser
       if (std::isfinite(p.sampling)) sampling = std::max(sampling, p.sampling);
     }
   }
-  const double noise = q.kind == Kind::PeakTime ? kRelNoise * (q.window.t1 - q.window.t0) : kRelNoise * mag + 1e-300;
+  const double noise = q.kind == Kind::PeakTime ? kRelNoise * (q.window.t1 - q.window.t0)
+                                                : kRelNoise * std::max(mag, floor_mag) + 1e-300;
+  q.noise = noise;
   q.est = richardson(in.refined, q.values, in.formal_order, noise);
   if (!at_edge.empty()) {
     std::string lv;
@@ -85,7 +88,7 @@ void scalar_quantity(Quantity& q, const AnalysisInput& in, const std::vector<Ser
                                                                          : std::abs(fine);
 }
 
-void series_quantity(Quantity& q, const AnalysisInput& in, const std::vector<Series>& s) {
+void series_quantity(Quantity& q, const AnalysisInput& in, const std::vector<Series>& s, double floor_mag) {
   const std::size_t L = s.size();
   std::vector<const Series*> valid;
   for (const auto& x : s)
@@ -104,7 +107,8 @@ void series_quantity(Quantity& q, const AnalysisInput& in, const std::vector<Ser
   for (std::size_t k = 0; k + 1 < L; ++k)
     if (!q.resampled[k].empty() && !q.resampled[k + 1].empty())
       d[k] = norm_of_difference(q.resampled[k], q.resampled[k + 1], in.norm);
-  q.est = richardson_of_differences(in.refined, d, in.formal_order, kRelNoise * mag + 1e-300);
+  q.noise = kRelNoise * std::max(mag, floor_mag) + 1e-300;
+  q.est = richardson_of_differences(in.refined, d, in.formal_order, q.noise);
   for (std::size_t k = 0; k < L; ++k)
     if (q.resampled[k].empty() && L > 0) {
       q.est.flags.push_back("level L" + std::to_string(k) + " has no such series (failed run)");
@@ -225,14 +229,33 @@ double quantity_difference(const Series& a, const Series& b, Kind kind, const Wi
   return g.empty() ? kNaN : norm_of_difference(resample(a, g), resample(b, g), norm);
 }
 
+bool vector_components(const std::string& a, const std::string& b) {
+  if (a.size() != b.size() || a == b) return false;
+  const auto axis = [](char c) { return c == 'x' || c == 'y' || c == 'z'; };
+  std::size_t differ = 0, at = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i] != b[i]) ++differ, at = i;
+  return differ == 1 && axis(a[at]) && axis(b[at]);
+}
+
 std::vector<Quantity> analyse(const AnalysisInput& in) {
   std::vector<Quantity> out;
   const std::size_t L = in.levels.size();
-  for (const auto& name : series_names(in.levels)) {
-    std::vector<Series> s(L);
+  const std::vector<std::string> names = series_names(in.levels);
+  std::vector<std::vector<Series>> all(names.size(), std::vector<Series>(L));
+  for (std::size_t n = 0; n < names.size(); ++n)
     for (std::size_t k = 0; k < L; ++k)
-      if (in.levels[k]->ok()) s[k] = run_series(*in.levels[k], name);
+      if (in.levels[k]->ok()) all[n][k] = run_series(*in.levels[k], names[n]);
+  for (std::size_t n = 0; n < names.size(); ++n) {
+    const std::string& name = names[n];
+    const std::vector<Series>& s = all[n];
     for (const auto& w : in.windows) {
+      double floor_mag = 0;  // the vector's largest component in this window
+      for (std::size_t m = 0; m < names.size(); ++m)
+        if (vector_components(name, names[m]))
+          for (const auto& x : all[m]) floor_mag = std::max(floor_mag, largest_magnitude(x, w));
+      double own_mag = 0;
+      for (const auto& x : s) own_mag = std::max(own_mag, largest_magnitude(x, w));
       // a series whose largest magnitude is at the window's start or end in every level has no peak event
       // (a rising front, a decaying energy): its peak would repeat the end or start value
       bool edge_only = false, any = false;
@@ -249,8 +272,9 @@ std::vector<Quantity> analyse(const AnalysisInput& in) {
         q.kind = kind;
         q.window = w;
         q.name = quantity_name(name, kind, w, in.norm);
-        if (kind == Kind::Series) series_quantity(q, in, s);
-        else scalar_quantity(q, in, s);
+        if (kind == Kind::Series) series_quantity(q, in, s, floor_mag);
+        else scalar_quantity(q, in, s, floor_mag);
+        q.rounding_only = own_mag <= kRelNoise * floor_mag;
         out.push_back(std::move(q));
       }
     }

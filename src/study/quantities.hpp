@@ -50,6 +50,8 @@ struct Quantity {
   std::vector<double> grid;             // series: the common time base
   std::vector<std::vector<double>> resampled;  // series: each level on the grid
   std::vector<double> extrapolated_series;     // series: Richardson extrapolation on the grid (may be empty)
+  double noise = 0;    // rounding floor: differences at or below it are no change (levels and ablations)
+  bool rounding_only = false;  // the series lies within its vector's rounding floor at every level (zero by symmetry)
   double relative(double abs_error) const { return scale > 0 ? abs_error / scale : 0.0 / 0.0; }
 };
 
@@ -62,7 +64,13 @@ struct AnalysisInput {
 };
 // Every quantity of every series and window; a series whose largest magnitude lies at the window's start or end
 // in every level gets no peak and time of peak (no event: the end or start value is that quantity).
+// The rounding floor of a component of a vector (Fx_wall and Fy_wall, momentum_x and momentum_y) is set by the
+// largest component, not by its own size: a force that is zero by symmetry sums round-off of the others' size.
 std::vector<Quantity> analyse(const AnalysisInput& in);
+
+// Two series are components of one vector: names of equal length that differ in exactly one character, and
+// that character is x, y or z in both (Fx_body1 / Fy_body1, momentum_x / momentum_z).
+bool vector_components(const std::string& a, const std::string& b);
 
 // The value of a scalar quantity on one run (peak, peak time, mean, end); for Kind::Series the norm of
 // the run's series on its own samples in the window.

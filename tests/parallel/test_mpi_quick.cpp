@@ -1,0 +1,99 @@
+// The fast-tier share of the multi-rank tests (a few seconds): a small 2D dam break with probes on 2 and 3
+// ranks gives the particle states of one process bit for bit after 200 steps, the outputs a user opens
+// (one .pvd of .pvtu frames, diagnostics.csv, probes.csv, run.json), and a checkpoint written by 2 ranks
+// restarts on 3 ranks and in the serial program to the same bits. The larger cases are in
+// test_mpi_runs.cpp (label mpi).
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "mpi_support.hpp"
+#include "results_scenes.hpp"
+
+namespace varsph::test {
+namespace {
+
+void expect_same_tables(const std::filesystem::path& serial, const std::filesystem::path& run, int ranks) {
+  const Csv a = read_csv(serial / "diagnostics.csv"), b = read_csv(run / "diagnostics.csv");
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  ASSERT_EQ(b.header.back(), "imbalance");
+  for (std::size_t r = 0; r < a.rows.size(); ++r) {
+    for (const char* exact : {"frame", "step", "time", "dt", "max_speed", "density_error_max"})
+      EXPECT_EQ(a.value(r, exact), b.value(r, exact)) << exact << ", row " << r;  // maxima of equal states
+    // sums over ranks are added in another order: equal to round-off (1e-12 of the sum of magnitudes)
+    const double scale = std::abs(a.value(r, "kinetic_energy")) + std::abs(a.value(r, "potential_energy")) +
+                         std::abs(a.value(r, "internal_energy")) + 1e-300;
+    for (const char* sum : {"kinetic_energy", "potential_energy", "internal_energy"})
+      EXPECT_NEAR(a.value(r, sum), b.value(r, sum), 1e-12 * scale) << sum << ", row " << r;
+    for (const char* m : {"momentum_x", "momentum_y"})
+      EXPECT_NEAR(a.value(r, m), b.value(r, m), 1e-12 * (1 + std::abs(a.value(r, m)))) << m << ", row " << r;
+    EXPECT_GE(b.value(r, "imbalance"), 1.0);
+    EXPECT_EQ(a.value(r, "imbalance"), 1.0);
+  }
+  const Csv pa = read_csv(serial / "probes.csv"), pb = read_csv(run / "probes.csv");
+  ASSERT_EQ(pa.rows.size(), pb.rows.size());
+  ASSERT_EQ(pa.header, pb.header);
+  for (std::size_t r = 0; r < pa.rows.size(); ++r)
+    for (const auto& c : pa.header) {
+      const double x = pa.value(r, c), y = pb.value(r, c);
+      EXPECT_NEAR(x, y, 1e-10 * (1 + std::abs(x))) << "probes.csv " << c << ", row " << r << ", " << ranks << " ranks";
+    }
+}
+
+TEST(MpiQuick, TinyDamBreakOnTwoAndThreeRanksEqualsOneProcessBitwise) {
+  const auto dir = scratch_dir("mpi_quick_dam");
+  const auto scene = write_scene(dir, tiny_dam_break());
+  const auto serial = run_varsph(0, scene, dir / "serial");
+  ASSERT_EQ(serial.exit_code, 0) << serial.output;
+  for (int n : {2, 3}) {
+    const auto out = dir / ("ranks" + std::to_string(n));
+    const auto r = run_varsph(n, scene, out);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const StateDiff d = compare_states(last_checkpoint(dir / "serial"), last_checkpoint(out));
+    EXPECT_TRUE(d.same_header);
+    EXPECT_GT(d.particles, 200);
+    EXPECT_GE(d.fields, 9);  // position, velocity, density, pressure, mass, kind, id, normal, body
+    EXPECT_EQ(d.differing, 0) << n << " ranks: " << d.first << " (max |diff| " << d.max_abs << ")";
+    // what a user opens: one .pvd listing .pvtu frames, each with one piece per rank
+    const std::string pvd = read_text(out / "tiny.pvd");
+    EXPECT_NE(pvd.find("frames/tiny_000010.pvtu"), std::string::npos) << pvd;
+    EXPECT_EQ(pvd.find(".vtu\""), std::string::npos);
+    const std::string pvtu = read_text(out / "frames" / "tiny_000010.pvtu");
+    for (int k = 0; k < n; ++k) {
+      const std::string piece = "tiny_000010/tiny_000010_" + std::to_string(k) + ".vtu";
+      EXPECT_NE(pvtu.find("Source=\"" + piece + "\""), std::string::npos) << pvtu;
+      EXPECT_TRUE(std::filesystem::exists(out / "frames" / piece));
+    }
+    expect_same_tables(dir / "serial", out, n);
+    const auto run_json = nlohmann::json::parse(read_text(out / "run.json"));
+    EXPECT_EQ(run_json.at("parallel").at("ranks").get<int>(), n);
+    EXPECT_EQ(run_json.at("status").get<std::string>(), "completed");
+    EXPECT_EQ(run_json.at("resolved").at("fluid_particles"),
+              nlohmann::json::parse(read_text(dir / "serial" / "run.json")).at("resolved").at("fluid_particles"));
+  }
+}
+
+TEST(MpiQuick, CheckpointOfTwoRanksRestartsOnThreeRanksAndInOneProcess) {
+  const auto dir = scratch_dir("mpi_quick_restart");
+  const auto scene = write_scene(dir, tiny_dam_break());
+  ASSERT_EQ(run_varsph(0, scene, dir / "straight").exit_code, 0);
+  const auto two = run_varsph(2, scene, dir / "two", "--set checkpoint.every_steps=100");
+  ASSERT_EQ(two.exit_code, 0) << two.output;
+  const auto ckpt = dir / "two" / "checkpoints" / "step_000000100.h5";
+  ASSERT_TRUE(std::filesystem::exists(ckpt));
+  EXPECT_TRUE(std::filesystem::exists(dir / "two" / "checkpoints" / "step_000000100" / "piece_000001.h5"));
+  const auto three = run_command(mpirun(3) + varsph_exe().string() + " run " + scene.string() + " --restart " +
+                                 ckpt.string() + " -o " + (dir / "three").string() + " --quiet");
+  ASSERT_EQ(three.exit_code, 0) << three.output;
+  const auto one = run_command(varsph_exe().string() + " run " + scene.string() + " --restart " + ckpt.string() +
+                               " -o " + (dir / "one").string() + " --quiet");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  for (const char* run : {"three", "one", "two"}) {
+    const StateDiff d = compare_states(last_checkpoint(dir / "straight"), last_checkpoint(dir / run));
+    EXPECT_TRUE(d.same_header) << run;
+    EXPECT_EQ(d.differing, 0) << run << ": " << d.first << " (max |diff| " << d.max_abs << ")";
+  }
+}
+
+}  // namespace
+}  // namespace varsph::test

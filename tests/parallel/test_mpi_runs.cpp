@@ -1,0 +1,264 @@
+// Multi-rank runs against one process (CTest label `mpi`: ctest --test-dir build/release -L mpi). Every
+// case runs `mpirun -n N varsph run` on loopback and compares the final particle states with the serial
+// program's, particle by particle (matched by id), every checkpointed field: they must be equal bit for
+// bit (the decomposition reproduces the serial summation order, parallel/domain.hpp). Tables that sum
+// over ranks (diagnostics, probes) agree to round-off.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "mpi_support.hpp"
+#include "results_scenes.hpp"
+
+namespace varsph::test {
+namespace {
+
+std::filesystem::path pipeline(const std::string& name) { return source_dir() / "pipelines" / name; }
+
+// Runs the scene serially and on each rank count in `ranks`; every final state must equal the serial one.
+void expect_bitwise(const std::string& tag, const std::filesystem::path& scene, const std::string& args,
+                    std::initializer_list<int> ranks, const std::string& extra_parallel_args = "") {
+  const auto dir = scratch_dir("mpi_" + tag);
+  const auto serial = run_varsph(0, scene, dir / "serial", args);
+  ASSERT_EQ(serial.exit_code, 0) << serial.output;
+  const auto ref = last_checkpoint(dir / "serial");
+  for (int n : ranks) {
+    const auto out = dir / ("ranks" + std::to_string(n));
+    const auto r = run_varsph(n, scene, out, args + " " + extra_parallel_args);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const StateDiff d = compare_states(ref, last_checkpoint(out));
+    EXPECT_TRUE(d.same_header) << tag << ", " << n << " ranks";
+    EXPECT_GT(d.particles, 0);
+    EXPECT_EQ(d.differing, 0) << tag << ", " << n << " ranks: " << d.first << " (max |diff| " << d.max_abs << ")";
+    const auto steps = nlohmann::json::parse(read_text(out / "run.json")).at("timings").at("steps").get<long>();
+    EXPECT_GE(steps, 200) << tag;
+  }
+}
+
+TEST(MpiRuns, DamBreak2DOnOneToFourRanksEqualsOneProcessBitwise) {
+  // the paper's scene (1682 fluid particles, repulsive walls, Verlet), 200 steps of 1e-4 s
+  expect_bitwise("dam2d", pipeline("dam_break_2d_paper.json"),
+                 "--set time.end=0.02 --set output.every=0.01 --set output.precision=\\\"float64\\\"", {1, 2, 3, 4});
+}
+
+TEST(MpiRuns, HybridRanksTimesThreadsEqualsOneProcessBitwise) {
+  expect_bitwise("hybrid", pipeline("dam_break_2d_paper.json"), "--set time.end=0.02 --set output.every=0.01", {2},
+                 "--threads 2");
+}
+
+TEST(MpiRuns, DamBreak3DOnTwoToFourRanksEqualsOneProcessBitwise) {
+  // SPHERIC test 2 (mesh tank and obstacle, dynamic walls, CFL-adaptive dt) at dx = 8 cm: ~210 steps
+  expect_bitwise("dam3d", pipeline("dam_break_3d_spheric2.json"),
+                 "--set particles.spacing=0.08 --set time.end=0.135 --set output.every=0.135", {2, 3, 4});
+}
+
+TEST(MpiRuns, RepartitioningEverySevenStepsChangesNoBit) {
+  expect_bitwise("rebalance", pipeline("dam_break_2d_paper.json"), "--set time.end=0.02 --set output.every=0.01", {3},
+                 "--set parallel.rebalance_every=7");
+  const auto j = nlohmann::json::parse(read_text(binary_dir() / "test_scratch" / "mpi_rebalance" / "ranks3" / "run.json"));
+  EXPECT_GE(j.at("parallel").at("repartitions").get<long>(), 28);
+  EXPECT_GT(j.at("parallel").at("particles_migrated").get<long>(), 0);
+}
+
+// 2D periodic shear layer (no walls, no gravity): two fluid slabs moving against each other.
+nlohmann::json shear_box() {
+  return nlohmann::json::parse(R"({
+    "name": "shear", "dimension": 2,
+    "domain": {"min": [0.0, 0.0], "max": [1.0, 1.0], "periodic": [true, true]},
+    "particles": {"spacing": 0.025},
+    "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},
+    "fluid": {"rho0": 1000.0, "c0": 20.0},
+    "gravity": [0.0, 0.0],
+    "bodies": [
+      {"kind": "fluid", "shape": "box", "min": [0.0, 0.0], "max": [1.0, 0.5], "velocity": [1.0, 0.2]},
+      {"kind": "fluid", "shape": "box", "min": [0.0, 0.5], "max": [1.0, 1.0], "velocity": [-1.0, 0.0]}
+    ],
+    "physics": {"density": "continuity", "artificial_viscosity": {"alpha": 0.1, "beta": 0.0}},
+    "integrator": {"type": "variational", "alpha": 0.5, "dt": 0.0002},
+    "time": {"end": 0.04},
+    "output": {"every": 0.004, "precision": "float64"}
+  })");
+}
+
+TEST(MpiRuns, PeriodicShearBoxVariationalEqualsOneProcessBitwiseAndConservesMomentum) {
+  // the variational integrator: midpoints and every fixed-point iterate exchanged, the convergence
+  // test reduced over ranks
+  const auto dir = scratch_dir("mpi_shear_scene");
+  const auto scene = write_scene(dir, shear_box());
+  // the constant initial guess (the integrator's default extrapolates a1 from the last two steps, which
+  // is exact for this uniform shear and converges in one iteration): several exchanged iterates a step
+  setenv("VARSPH_VARIATIONAL_PREDICTOR", "constant", 1);
+  expect_bitwise("shear", scene, "", {2, 3, 4});
+  unsetenv("VARSPH_VARIATIONAL_PREDICTOR");
+  // linear momentum: pairwise antisymmetric forces, so constant to round-off on any number of ranks
+  const Csv t = read_csv(binary_dir() / "test_scratch" / "mpi_shear" / "ranks3" / "diagnostics.csv");
+  ASSERT_GE(t.rows.size(), 10u);
+  const double m = 1000.0 * 0.025 * 0.025, n = 1600;
+  const double scale = n * m * 1.02;  // sum_i m_i |v_i| at t = 0
+  const double px0 = t.value(0, "momentum_x"), py0 = t.value(0, "momentum_y");
+  EXPECT_NEAR(py0, 0.5 * n * m * 0.2, 1e-9 * scale);
+  for (std::size_t r = 1; r < t.rows.size(); ++r) {
+    EXPECT_NEAR(t.value(r, "momentum_x"), px0, 1e-12 * scale) << "row " << r;
+    EXPECT_NEAR(t.value(r, "momentum_y"), py0, 1e-12 * scale) << "row " << r;
+    EXPECT_GT(t.value(r, "fp_iterations_mean"), 1.0);  // a real fixed point, not the explicit scheme
+  }
+}
+
+TEST(MpiRuns, TaylorGreenWithGlobalSpeedShiftingEqualsOneProcessBitwise) {
+  // doubly periodic box, laminar viscosity, shifting with the global maximum speed (a reduction over
+  // ranks inside a physics pass), CFL-adaptive dt
+  expect_bitwise("taylor_green", pipeline("validation/taylor_green_dx0.02.json"),
+                 "--set time.end=0.11 --set output.every=0.11 --set output.precision=\\\"float64\\\"", {3, 4});
+}
+
+// 3D periodic cube, the whole fluid translating fast along a diagonal (a quarter of a particle spacing
+// per step, three times across the box in 200 steps) with a slight shear: particles cross rank
+// boundaries, the edges and corners where several ranks meet, and the periodic corners.
+nlohmann::json diagonal_cube() {
+  return nlohmann::json::parse(R"({
+    "name": "corners", "dimension": 3,
+    "domain": {"min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 1.0], "periodic": [true, true, true]},
+    "particles": {"spacing": 0.0625},
+    "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},
+    "fluid": {"rho0": 1000.0, "c0": 2.0},
+    "gravity": [0.0, 0.0, 0.0],
+    "bodies": [
+      {"kind": "fluid", "shape": "box", "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.5], "velocity": [3.0, 2.0, 1.5]},
+      {"kind": "fluid", "shape": "box", "min": [0.0, 0.0, 0.5], "max": [1.0, 1.0, 1.0], "velocity": [2.8, 2.1, 1.5]}
+    ],
+    "physics": {"density": "continuity", "artificial_viscosity": {"alpha": 0.1, "beta": 0.0}},
+    "integrator": {"type": "verlet", "dt": 0.004},
+    "health": {"max_mach": 10.0},
+    "time": {"end": 0.8},
+    "output": {"every": 0.4, "precision": "float64"}
+  })");
+}
+
+TEST(MpiRuns, FastParticlesThroughRankCornersEqualOneProcessBitwise) {
+  const auto dir = scratch_dir("mpi_corners_scene");
+  const auto scene = write_scene(dir, diagonal_cube());
+  expect_bitwise("corners", scene, "", {3, 4}, "--set parallel.rebalance_every=25");
+  // every particle is still there, once
+  const auto c = io::read_checkpoint(last_checkpoint(binary_dir() / "test_scratch" / "mpi_corners" / "ranks4"));
+  EXPECT_EQ(c.header.particles, 4096);
+  const auto j = nlohmann::json::parse(read_text(binary_dir() / "test_scratch" / "mpi_corners" / "ranks4" / "run.json"));
+  EXPECT_GT(j.at("parallel").at("particles_migrated").get<long>(), 4096);  // each crossed several boxes
+}
+
+// Starts `cmd` (through sh; exec makes its pid the launcher's) and returns the pid.
+pid_t spawn(const std::string& cmd) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + cmd).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+std::vector<pid_t> children_of(pid_t parent) {
+  std::vector<pid_t> out;
+  for (const auto& e : std::filesystem::directory_iterator("/proc")) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(e.path() / "stat");
+    std::string stat;
+    std::getline(in, stat);
+    const auto close = stat.rfind(')');
+    if (close == std::string::npos) continue;
+    std::istringstream rest(stat.substr(close + 2));
+    char state;
+    long ppid;
+    rest >> state >> ppid;
+    if (ppid == parent) out.push_back(pid_t(std::stol(name)));
+  }
+  return out;
+}
+
+// Waits up to `seconds` for pid; returns its exit code, or -1 (after killing it) on a timeout.
+int wait_for(pid_t pid, double seconds) {
+  const auto t0 = std::chrono::steady_clock::now();
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > seconds) {
+      for (pid_t c : children_of(pid)) kill(c, SIGKILL);
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+void signal_one_rank(int sig, int expected_code) {
+  const auto dir = scratch_dir("mpi_signal_" + std::to_string(sig));
+  const auto out = dir / "run";
+  const pid_t pid = spawn(mpirun(3) + varsph_exe().string() + " run " + pipeline("dam_break_2d_paper.json").string() +
+                          " --set time.end=10 --set output.every=0.005 -o " + out.string() + " --quiet > " +
+                          (dir / "log.txt").string() + " 2>&1");
+  // wait until the run is stepping (a few frames written), then signal the last rank only
+  const auto t0 = std::chrono::steady_clock::now();
+  while (read_csv(out / "diagnostics.csv").rows.size() < 3 &&
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < 120)
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_GE(read_csv(out / "diagnostics.csv").rows.size(), 3u) << read_text(dir / "log.txt");
+  auto ranks = children_of(pid);
+  ASSERT_EQ(ranks.size(), 3u);
+  std::sort(ranks.begin(), ranks.end());
+  kill(ranks.back(), sig);
+  const int code = wait_for(pid, 120);
+  EXPECT_EQ(code, expected_code) << read_text(dir / "log.txt");
+  const auto j = nlohmann::json::parse(read_text(out / "run.json"));
+  EXPECT_EQ(j.at("status").get<std::string>(), "interrupted");
+  // the checkpoint of the stop restarts (on another number of ranks)
+  const auto cp = last_checkpoint(out);
+  ASSERT_FALSE(cp.empty());
+  const auto again = run_command(mpirun(2) + varsph_exe().string() + " run " +
+                                 pipeline("dam_break_2d_paper.json").string() + " --restart " + cp.string() +
+                                 " --set time.end=" + std::to_string(j.at("timings").at("simulated_seconds").get<double>() + 0.002) +
+                                 " -o " + (dir / "again").string() + " --quiet");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+}
+
+TEST(MpiRuns, SigtermOnOneRankStopsEveryRankWithACheckpoint) { signal_one_rank(SIGTERM, 143); }
+TEST(MpiRuns, SigintOnOneRankStopsEveryRankWithACheckpoint) { signal_one_rank(SIGINT, 130); }
+
+TEST(MpiRuns, BlowUpStopsEveryRankWithTheSerialExitCode) {
+  const auto dir = scratch_dir("mpi_blowup");
+  const auto scene = write_scene(dir, tiny_dam_break());
+  const std::string args = "--set health.max_density_error=0.002";
+  const auto serial = run_varsph(0, scene, dir / "serial", args);
+  EXPECT_EQ(serial.exit_code, 3) << serial.output;
+  const pid_t pid = spawn(mpirun(3) + varsph_exe().string() + " run " + scene.string() + " -o " +
+                          (dir / "three").string() + " --quiet " + args + " > " + (dir / "log.txt").string() + " 2>&1");
+  EXPECT_EQ(wait_for(pid, 120), 3) << read_text(dir / "log.txt");  // no rank left waiting
+  const std::string log = read_text(dir / "log.txt");
+  EXPECT_NE(log.find("numerical failure at step"), std::string::npos) << log;
+  const auto j = nlohmann::json::parse(read_text(dir / "three" / "run.json"));
+  EXPECT_EQ(j.at("status").get<std::string>(), "failed");
+  // the last good state was written as a frame and a checkpoint, as in one process
+  const auto a = compare_states(last_checkpoint(dir / "serial"), last_checkpoint(dir / "three"));
+  EXPECT_EQ(a.differing, 0) << a.first;
+  EXPECT_TRUE(a.same_header);
+}
+
+TEST(MpiRuns, SceneErrorIsReportedOnceAndEveryRankExitsWithTwo) {
+  const auto dir = scratch_dir("mpi_input_error");
+  const auto r = run_varsph(3, pipeline("dam_break_2d_paper.json"), dir / "out", "--set kernel.h_over_dx=-1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  std::size_t count = 0;
+  for (std::size_t at = 0; (at = r.output.find("varsph: error:", at)) != std::string::npos; ++at) ++count;
+  EXPECT_EQ(count, 1u) << r.output;
+  EXPECT_EQ(r.output.find("MPI_ABORT"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace varsph::test

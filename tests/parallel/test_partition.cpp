@@ -1,0 +1,124 @@
+// Recursive coordinate bisection (parallel/partition.hpp): the boxes tile the grid, owner() agrees with
+// the boxes, and the weight is shared out as evenly as the cell granularity allows. One process plays
+// P ranks that hold every particle (the reductions are then identities, which is exact).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+
+#include "parallel/partition.hpp"
+
+namespace varsph::parallel {
+namespace {
+
+// P ranks whose particles all live in this process: every reduction is the identity.
+class AllInOne final : public Communicator {
+ public:
+  explicit AllInOne(int p) : p_(p) {}
+  int rank() const override { return 0; }
+  int size() const override { return p_; }
+  void sum(std::span<double>) override {}
+  void sum(std::span<std::int64_t>) override {}
+  void max(std::span<double>) override {}
+  void min(std::span<double>) override {}
+  std::int64_t exscan(std::int64_t) override { return 0; }
+  std::vector<std::int64_t> allgather(std::int64_t v) override { return {v}; }
+  std::vector<double> allgather(double v) override { return {v}; }
+  std::string broadcast(const std::string& s, int) override { return s; }
+  void barrier() override {}
+  std::vector<std::int64_t> alltoall(const std::vector<std::int64_t>& c) override { return c; }
+  void begin_exchange(std::span<const Message>, std::span<const Message>) override {}
+  void finish_exchange() override {}
+
+ private:
+  int p_;
+};
+
+template <int D>
+struct Cloud {
+  std::vector<std::array<std::int64_t, D>> cells;
+  std::vector<std::int32_t> weights;
+};
+
+// A dam-break-like load: every particle in the lower-left fifth of the grid, fluid weight 4, plus a
+// sparse layer of boundary particles (weight 1) all around.
+template <int D>
+Cloud<D> dam_break_cloud(const std::array<std::int64_t, D>& dims, int per_cell) {
+  Cloud<D> c;
+  std::array<std::int64_t, D> idx{};
+  while (true) {
+    bool fluid = idx[0] < dims[0] / 5;
+    for (int a = 1; a < D; ++a) fluid = fluid && idx[a] < dims[a] / 2;
+    bool wall = false;
+    for (int a = 0; a < D; ++a) wall = wall || idx[a] == 0 || idx[a] == dims[a] - 1;
+    for (int k = 0; k < (fluid ? per_cell : wall ? 1 : 0); ++k) {
+      c.cells.push_back(idx);
+      c.weights.push_back(fluid ? 4 : 1);
+    }
+    int a = 0;
+    while (a < D && ++idx[a] == dims[a]) idx[a++] = 0;
+    if (a == D) break;
+  }
+  return c;
+}
+
+template <int D>
+void check_tiling_and_balance(const std::array<std::int64_t, D>& dims, int P, double max_ratio) {
+  const Cloud<D> c = dam_break_cloud<D>(dims, 3);
+  AllInOne comm(P);
+  const auto part = Partition<D>::build(comm, dims, c.cells, c.weights);
+  ASSERT_EQ(part.ranks(), P);
+  std::int64_t volume = 1;
+  for (int a = 0; a < D; ++a) volume *= dims[a];
+  std::int64_t sum = 0;
+  for (int r = 0; r < P; ++r) {
+    EXPECT_FALSE(part.box(r).empty()) << "rank " << r;
+    sum += part.box(r).volume();
+  }
+  EXPECT_EQ(sum, volume);  // with owner() below: disjoint and covering
+  std::array<std::int64_t, D> idx{};
+  while (true) {
+    const int o = part.owner(idx);
+    ASSERT_TRUE(part.box(o).contains(idx));
+    int a = 0;
+    while (a < D && ++idx[a] == dims[a]) idx[a++] = 0;
+    if (a == D) break;
+  }
+  std::vector<double> w(std::size_t(P), 0.0);
+  for (std::size_t i = 0; i < c.cells.size(); ++i) w[std::size_t(part.owner(c.cells[i]))] += c.weights[i];
+  const double mean = std::accumulate(w.begin(), w.end(), 0.0) / P;
+  const double ratio = *std::max_element(w.begin(), w.end()) / mean;
+  EXPECT_LE(ratio, max_ratio) << P << " ranks: heaviest box " << ratio << " x the mean";
+}
+
+TEST(Partition, BoxesTileTheGridAndShareTheWeight2D) {
+  // 120 x 60 cells; a cell column of the fluid holds 3 x 30 = 90 fluid particles (weight 360): up to 7
+  // ranks a cut misses the ideal share by at most half a column. With more ranks the boxes get narrow
+  // and every box is cut across its longest axis only, whatever the fluid's shape: measured 1.19 x the
+  // mean at 8 ranks and 1.29 x at 16 (a known limit of this partition, docs/parallel.md "Limits")
+  for (int P : {1, 2, 3, 4, 5, 7}) check_tiling_and_balance<2>({120, 60}, P, 1.10);
+  for (int P : {8, 16}) check_tiling_and_balance<2>({120, 60}, P, 1.30);
+}
+
+TEST(Partition, BoxesTileTheGridAndShareTheWeight3D) {
+  // measured 1.21 x the mean at 6 ranks and 1.17 x at 16 (see the 2D case)
+  for (int P : {2, 3, 4, 8}) check_tiling_and_balance<3>({60, 24, 24}, P, 1.15);
+  for (int P : {6, 16}) check_tiling_and_balance<3>({60, 24, 24}, P, 1.25);
+}
+
+TEST(Partition, EmptyGridIsCutGeometrically) {
+  AllInOne comm(4);
+  const std::array<std::int64_t, 2> dims{40, 40};
+  const auto part = Partition<2>::build(comm, dims, {}, {});
+  for (int r = 0; r < 4; ++r) EXPECT_EQ(part.box(r).volume(), 400) << r;
+}
+
+TEST(Partition, TooFewCellsForTheRanksIsRefused) {
+  AllInOne comm(5);
+  const std::array<std::int64_t, 2> dims{2, 2};
+  EXPECT_THROW(Partition<2>::build(comm, dims, {}, {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace varsph::parallel
