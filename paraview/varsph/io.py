@@ -105,6 +105,8 @@ def read_dataset(path):
     if not os.path.isfile(path):
         raise FileNotFoundError("frame file not found: %s" % path)
     ext = os.path.splitext(path)[1].lower()
+    if ext == ".pvtu":
+        return _read_pvtu_pieces(path)
     r = {".vtu": vtkXMLUnstructuredGridReader, ".pvtu": vtkXMLPUnstructuredGridReader}.get(
         ext, vtkXMLGenericDataObjectReader)()
     r.SetFileName(path)
@@ -113,6 +115,39 @@ def read_dataset(path):
     if out is None or not out.IsA("vtkDataSet"):
         raise ValueError("%s: not a readable VTK dataset" % path)
     return out
+
+
+def _read_pvtu_pieces(path):
+    """A .pvtu frame as one grid: each piece read by the serial reader and appended in piece order (the
+    order vtkXMLPUnstructuredGridReader gives). ParaView 5.11 crashes intermittently in Threshold on
+    series read through its parallel reader (docs/parallel.md), not on the same grid read this way."""
+    import xml.etree.ElementTree as ET
+    from vtkmodules.vtkFiltersCore import vtkAppendFilter
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    root = ET.parse(path).getroot()
+    grid = root.find("PUnstructuredGrid")
+    sources = [p.get("Source") for p in grid.findall("Piece")] if grid is not None else []
+    if not sources:
+        raise ValueError("%s: a .pvtu without pieces" % path)
+    app = vtkAppendFilter()
+    app.MergePointsOff()
+    readers = []
+    for src in sources:
+        piece = os.path.join(os.path.dirname(path), src)
+        if not os.path.isfile(piece):
+            raise FileNotFoundError("%s: piece not found: %s" % (path, piece))
+        r = vtkXMLUnstructuredGridReader()
+        r.SetFileName(piece)
+        r.Update()
+        readers.append(r)
+        app.AddInputData(r.GetOutput())
+    app.Update()
+    out = app.GetOutput()
+    field = readers[0].GetOutput().GetFieldData()  # time, step, dx, h, ... (the same on every piece)
+    out.GetFieldData().ShallowCopy(field)
+    own = out.NewInstance()
+    own.ShallowCopy(out)
+    return own
 
 
 def point_array(data, name):
