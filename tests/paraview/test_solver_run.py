@@ -73,7 +73,8 @@ T.check(head == ["time", "p_wall", "h_x2L", "front_x"], "probes.csv of the defau
 if "time" in pc:
     T.check(len(pc["time"]) == 121 and np.allclose(np.diff(pc["time"]), 0.0005, atol=1e-9),
             "a probe row every 0.0005 s: %d rows" % len(pc["time"]))
-    T.close(pc["front_x"][0], right, 1e-12, "front probe at t = 0 = the block's right column")
+    # the probe is computed in double, `right` read from a float32 frame (output.precision): float32 resolution
+    T.close(pc["front_x"][0], right, 1e-6 * abs(right), "front probe at t = 0 = the block's right column")
     T.check(pc["h_x2L"][0] == 0 and pc["p_wall"][0] == 0, "dry at x = 2L and at the right wall at t = 0")
 dev = V.deviation_series(run, run)
 T.check(len(dev) == len(frames) and all(r[1] == 0 for r in dev), "run against itself: D = 0 at every frame")
@@ -89,6 +90,7 @@ for name in ("surge_front.csv", "deviation.csv", "momentum.csv", "free_surface_t
 fd = os.path.join(run, "post", "front_dimensionless.csv")
 if os.path.isfile(fd):
     z = np.loadtxt(fd, delimiter=",", skiprows=1)
-    T.check(abs(z[0, 2] - 1.0) < 1e-12 and np.all(np.diff(z[:, 2]) >= -1e-9), "dimensionless front starts at "
+    # Z from float32 frame positions: 1 to float32 resolution (1.2e-8 measured), not to 1e-12
+    T.check(abs(z[0, 2] - 1.0) < 1e-6 and np.all(np.diff(z[:, 2]) >= -1e-6), "dimensionless front starts at "
             "Z = 1 (%.15g) and does not move back" % z[0, 2])
 T.finish(tmp)
