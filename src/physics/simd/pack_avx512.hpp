@@ -21,6 +21,7 @@ struct PackAvx512 {
   static V sub(V a, V b) { return _mm512_sub_pd(a, b); }
   static V mul(V a, V b) { return _mm512_mul_pd(a, b); }
   static V div(V a, V b) { return _mm512_div_pd(a, b); }
+  static V sqrt(V a) { return _mm512_sqrt_pd(a); }
   static V fmadd(V a, V b, V c) { return _mm512_fmadd_pd(a, b, c); }
   static V fnmadd(V a, V b, V c) { return _mm512_fnmadd_pd(a, b, c); }  // c - a b
   static V min(V a, V b) { return _mm512_min_pd(a, b); }
@@ -36,7 +37,9 @@ struct PackAvx512 {
   static I iscale(I j, int s) {
     return s == 1 ? j : s == 2 ? _mm256_slli_epi32(j, 1) : _mm256_add_epi32(j, _mm256_slli_epi32(j, 1));
   }
-  static V gather(const double* base, I j) { return _mm512_i32gather_pd(j, base, 8); }
+  static V gather(const double* base, I j) {  // masked: GCC 12 warns about the unmasked form's undefined source
+    return _mm512_mask_i32gather_pd(_mm512_setzero_pd(), __mmask8(0xFF), j, base, 8);
+  }
   static I trunc(V a) { return _mm512_cvttpd_epi32(a); }
   static V to_real(I a) { return _mm512_cvtepi32_pd(a); }
   static double hsum(V a) {  // fixed pairing: (0+4, 1+5, 2+6, 3+7), then as PackAvx2
