@@ -22,7 +22,6 @@ struct PackAvx2 {
   static V sub(V a, V b) { return _mm256_sub_pd(a, b); }
   static V mul(V a, V b) { return _mm256_mul_pd(a, b); }
   static V div(V a, V b) { return _mm256_div_pd(a, b); }
-  static V sqrt(V a) { return _mm256_sqrt_pd(a); }
   static V fmadd(V a, V b, V c) { return _mm256_fmadd_pd(a, b, c); }  // a b + c
   static V fnmadd(V a, V b, V c) { return _mm256_fnmadd_pd(a, b, c); }  // c - a b
   static V min(V a, V b) { return _mm256_min_pd(a, b); }

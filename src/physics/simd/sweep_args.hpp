@@ -43,7 +43,6 @@ struct SweepArgs {
   const double* mass;
   const double* rho;
   const double* p_over_rho2;  // acceleration: p / rho^2 per particle
-  const double* p;            // Riemann diffusion: pressure per particle
   const double* volume;       // density diffusion: m / rho per particle
   const std::int32_t* kind;   // 0 fluid
   // kernel gradient factor F (grad_i W = F x_ij) tabulated in r^2: F = t[k] + (u - k)(t[k+1] - t[k]),
@@ -55,16 +54,15 @@ struct SweepArgs {
   // the fluid-fluid terms of the pass
   bool continuity;    // drho_i/dt (DensityRatePass)
   bool acceleration;  // symmetric pressure term (AccelerationPass)
-  int diffusion;      // 0 none, 1 Molteni & Colagrossi 2009, 2 Fourtakas et al. 2019, 3 Riemann (Zhang 2017)
-  int viscosity;      // 0 none, 1 Monaghan 1992 artificial viscosity, 2 Riemann dissipation (Zhang 2017)
+  int diffusion;      // 0 none, 1 Molteni & Colagrossi 2009, 2 Fourtakas et al. 2019
+  int viscosity;      // 0 none, 1 Monaghan 1992 artificial viscosity
   bool laminar;       // + Morris 1997 laminar viscosity
   bool walls_only;            // no fluid-fluid terms: fluid particles hand their wall pairs to the finisher
   bool walls_active;          // boundary particles run the pass (dynamic walls' continuity)
   bool wall_continuity_vector;  // ... and their pair terms are the plain continuity sum (vector code)
   double diff_coef, diff_rho0, diff_rho0_over_B, gravity[3];
   double av_alpha_c0, av_beta, av_h, av_eps_h2;
-  double riemann_rho0c0, riemann_eta_over_c0, riemann_inv_rho0c0;  // physics/riemann.hpp
-  double lam_nu, lam_eps_h2;                                         // physics/laminar_viscosity.hpp
+  double lam_nu, lam_eps_h2;  // physics/laminar_viscosity.hpp
   // portable finisher: pass.begin(i), the vector sums added (sums[0] drho, sums[1..dim] acceleration),
   // pass.pair() for every pair in `other`, pass.end(i)
   void (*finish)(const void* pass, std::uint32_t i, const double* sums, const NeighbourList& other);

@@ -126,21 +126,17 @@ struct Sweep {
 
   // Pair terms of particle i over S.vec; sums[0] += drho/dt, sums[1..D] += acceleration.
   // CONT: continuity, Monaghan 1992 (standard sign, PAPER-NOTES on seed eq. 67-68): m_j F (v_i - v_j) . x_ij
-  // DIFF: + density diffusion (1 Molteni & Colagrossi 2009, 2 Fourtakas et al. 2019, 3 the Riemann
-  //       solver's pressure diffusion, Zhang, Hu & Adams 2017: physics/riemann.hpp)
-  // ACC: - m_j (p_i/rho_i^2 + p_j/rho_j^2 [+ Pi_ij]) F x_ij (seed eq. 38), with VISC: Pi_ij of
-  //      1 Monaghan 1992 artificial viscosity, 2 the Riemann solver's dissipation (Zhang 2017 eq. 14, 23)
+  // DIFF: + density diffusion (1 Molteni & Colagrossi 2009, 2 Fourtakas et al. 2019)
+  // ACC: - m_j (p_i/rho_i^2 + p_j/rho_j^2 [+ Pi_ij, VISC 1: Monaghan 1992 artificial viscosity]) F x_ij (seed eq. 38)
   // LAM: + Morris 1997 laminar viscosity, m_j nu (rho_i + rho_j) F r^2 / (rho_i rho_j (r^2 + eps h^2)) v_ij
   template <bool CONT, bool ACC, int DIFF, int VISC, bool LAM>
   static void terms(const SweepArgs& A, std::uint32_t i, const NeighbourList& L, double* sums) {
     if constexpr (!CONT && !ACC) return;
-    constexpr bool need_rho_j = (CONT && DIFF > 0 && DIFF < 3) || (ACC && (VISC > 0 || LAM));
-    constexpr bool need_r = (CONT && DIFF == 3) || (ACC && VISC == 2);
+    constexpr bool need_rho_j = (CONT && DIFF > 0) || (ACC && (VISC > 0 || LAM));
     V vi[D];
     for (int a = 0; a < D; ++a) vi[a] = P::set1(A.v[D * std::size_t(i) + a]);
     const V rho_i = P::set1(A.rho[i]);
     const V pr_i = ACC ? P::set1(A.p_over_rho2[i]) : P::zero();
-    const V p_i = (CONT && DIFF == 3) ? P::set1(A.p[i]) : P::zero();
     V drho = P::zero();
     V acc[D];
     for (int a = 0; a < D; ++a) acc[a] = P::zero();
@@ -158,19 +154,11 @@ struct Sweep {
         vij[a] = P::sub(vi[a], P::gather(A.v + a, jd));
         vx = P::fmadd(vij[a], x[a], vx);
       }
-      V rho_j = P::zero(), r = P::zero();
+      V rho_j = P::zero();
       if constexpr (need_rho_j) rho_j = P::gather(A.rho, j);
-      if constexpr (need_r) r = P::sqrt(r2);
       if constexpr (CONT) {
         drho = P::fmadd(P::mul(mj, F), vx, drho);
-        if constexpr (DIFF == 3) {
-          // rho_i V_j (p_i - p_j - rho0 g . x_ij) / (rho0 c0) F r  (RiemannDiffusion::term_p)
-          V gx = P::zero();
-          for (int a = 0; a < D; ++a) gx = P::fmadd(P::set1(A.gravity[a]), x[a], gx);
-          const V dp = P::sub(P::sub(p_i, P::gather(A.p, j)), P::mul(P::set1(A.diff_rho0), gx));
-          const V Vj = P::gather(A.volume, j);
-          drho = P::fmadd(P::mul(P::mul(rho_i, Vj), P::mul(dp, P::set1(A.riemann_inv_rho0c0))), P::mul(F, r), drho);
-        } else if constexpr (DIFF > 0) {
+        if constexpr (DIFF > 0) {
           V drho_ij = P::sub(rho_j, rho_i);
           if constexpr (DIFF == 2) {  // minus the hydrostatic part, Tait series to a^3 (density_diffusion.hpp)
             V gx = P::zero();
@@ -192,12 +180,6 @@ struct Sweep {
           const V hvx = P::mul(P::set1(A.av_h), vx);
           const V num = P::mul(hvx, P::sub(P::mul(P::set1(A.av_beta), hvx), P::mul(P::set1(A.av_alpha_c0), den)));
           const V pi = P::div(P::add(num, num), P::mul(P::mul(den, den), P::add(rho_i, rho_j)));
-          coef = P::add(coef, P::masked(P::lt(vx, P::zero()), pi));
-        } else if constexpr (VISC == 2) {
-          // Pi_ij = rho0 c0 beta u_a / (rho_i rho_j), u_a = -v.x / r, beta = min(eta u_a / c0, 1), for v.x < 0
-          const V ua = P::div(P::sub(P::zero(), vx), r);
-          const V beta = P::min(P::mul(P::set1(A.riemann_eta_over_c0), ua), P::set1(1.0));
-          const V pi = P::div(P::mul(P::mul(P::set1(A.riemann_rho0c0), beta), ua), P::mul(rho_i, rho_j));
           coef = P::add(coef, P::masked(P::lt(vx, P::zero()), pi));
         }
         const V s = P::mul(P::mul(mj, coef), F);
@@ -247,8 +229,7 @@ struct Sweep {
     }
   }
 
-  // Only the combinations a scene can name are instantiated: the Riemann diffusion comes with the
-  // Riemann dissipation (physics/rates_impl.hpp), the other diffusions with none or Monaghan's viscosity.
+  // with or without Morris' laminar viscosity beside the other terms
   template <bool CONT, bool ACC, int DIFF, int VISC>
   static void with_laminar(const SweepArgs& A) {
     if (A.laminar) return run<CONT, ACC, DIFF, VISC, true>(A);
@@ -264,7 +245,6 @@ struct Sweep {
   static void dispatch(const SweepArgs& A) {
     if (A.walls_only) return run<false, false, 0, 0, false>(A);
     if (A.continuity && A.acceleration) {
-      if (A.viscosity == 2) return with_laminar<true, true, 3, 2>(A);
       if (A.diffusion == 0) return fused_with<0>(A);
       if (A.diffusion == 1) return fused_with<1>(A);
       return fused_with<2>(A);
@@ -272,10 +252,8 @@ struct Sweep {
     if (A.continuity) {
       if (A.diffusion == 0) return run<true, false, 0, 0, false>(A);
       if (A.diffusion == 1) return run<true, false, 1, 0, false>(A);
-      if (A.diffusion == 2) return run<true, false, 2, 0, false>(A);
-      return run<true, false, 3, 0, false>(A);
+      return run<true, false, 2, 0, false>(A);
     }
-    if (A.viscosity == 2) return with_laminar<false, true, 0, 2>(A);
     if (A.viscosity == 1) return with_laminar<false, true, 0, 1>(A);
     return with_laminar<false, true, 0, 0>(A);
   }

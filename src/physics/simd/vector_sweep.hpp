@@ -1,10 +1,11 @@
 #pragma once
 // Bridge from the scalar passes (physics/passes.hpp) to the vectorised sweep (sweep_args.hpp). A pass is
 // covered only if FluidTerms<Pass> is specialised for its exact type: today the continuity pass, the
-// acceleration pass and the fused sweep with the tabulated kernel, no / Molteni / Fourtakas / Riemann
-// diffusion and no / artificial / Riemann viscosity, each with or without laminar viscosity, for the wall
-// models that exist now. Any other pass type - a new policy, a new template parameter, Antuono's
-// delta-SPH, exact kernels, the float build - keeps the scalar sweep
+// acceleration pass and the fused sweep with the tabulated kernel, no / Molteni / Fourtakas diffusion and
+// no / artificial viscosity, each with or without laminar viscosity, for the wall models that exist now.
+// Any other pass type - a new policy, a new template parameter, the Riemann solver's terms (a vector twin
+// measured slower than the scalar code: docs/performance.md), Antuono's delta-SPH, exact kernels, the
+// float build - keeps the scalar sweep
 // (vector_sweep() returns false). Pairs with a boundary particle always go through the pass's own
 // scalar pair(), so wall models never need a vector twin.
 #include <cstring>
@@ -43,7 +44,6 @@ struct FluidTerms<DensityRatePass<D, kernels::Tabulated<D>, M, Diff>> {
   static constexpr int diffusion = std::is_same_v<Diff, NoDensityDiffusion>     ? 0
                                    : std::is_same_v<Diff, MolteniDiffusion>      ? 1
                                    : std::is_same_v<Diff, FourtakasDiffusion<D>> ? 2
-                                   : std::is_same_v<Diff, RiemannDiffusion<D>>   ? 3
                                                                                  : -1;
   static constexpr bool covered = known_wall_model<M> && diffusion >= 0;
   static const ParticleView<D>& view(const Pass& p) { return p.s; }
@@ -54,30 +54,22 @@ struct FluidTerms<DensityRatePass<D, kernels::Tabulated<D>, M, Diff>> {
     A.walls_active = walls_evolve_density<M>;
     A.wall_continuity_vector = walls_evolve_density<M> && walls_in_continuum<M>;
     A.volume = p.volume;
-    if constexpr (diffusion == 1 || diffusion == 2) A.diff_coef = p.diff.coef;
+    if constexpr (diffusion > 0) A.diff_coef = p.diff.coef;
     if constexpr (diffusion == 2) {
       A.diff_rho0 = p.diff.rho0;
       A.diff_rho0_over_B = p.diff.rho0_over_B;
-      for (int a = 0; a < D; ++a) A.gravity[a] = p.diff.g[a];
-    }
-    if constexpr (diffusion == 3) {
-      A.p = p.s.p.data();
-      A.diff_rho0 = p.diff.rho0;
-      A.riemann_inv_rho0c0 = p.diff.inv_rho0c0;
       for (int a = 0; a < D; ++a) A.gravity[a] = p.diff.g[a];
     }
   }
   static void add(Real& acc, const double* sums) { acc += sums[0]; }
 };
 
-// 0 none, 1 Monaghan's artificial viscosity, 2 the Riemann dissipation (each maybe + laminar); -1 other
+// 0 none, 1 Monaghan's artificial viscosity (each maybe + Morris' laminar viscosity); -1 not covered
 template <class Visc>
 constexpr int viscosity_kind = std::is_same_v<Visc, NoViscosity> || std::is_same_v<Visc, LaminarViscosity> ? 0
                                : std::is_same_v<Visc, ArtificialViscosity> ||
                                        std::is_same_v<Visc, ArtificialAndLaminarViscosity>
                                    ? 1
-                               : std::is_same_v<Visc, RiemannDissipation> || std::is_same_v<Visc, RiemannAndLaminarViscosity>
-                                   ? 2
                                    : -1;
 
 template <int D, class Visc, BoundaryModel M>
@@ -98,11 +90,6 @@ struct FluidTerms<AccelerationPass<D, kernels::Tabulated<D>, Visc, M>> {
       A.av_h = av.h;
       A.av_eps_h2 = av.eps_h2;
     }
-    if constexpr (viscosity == 2) {
-      const RiemannDissipation& rd = p.visc;
-      A.riemann_rho0c0 = rd.rho0c0;
-      A.riemann_eta_over_c0 = rd.eta_over_c0;
-    }
     if constexpr (Visc::laminar) {
       const LaminarViscosity& lv = p.visc;
       A.laminar = true;
@@ -118,9 +105,7 @@ struct FluidTerms<AccelerationPass<D, kernels::Tabulated<D>, Visc, M>> {
 template <int D, class Dens, class Accel>
 struct FluidTerms<FusedRatesPass<D, Dens, Accel>> {
   using Pass = FusedRatesPass<D, Dens, Accel>;
-  // the sweep pairs the Riemann diffusion with the Riemann dissipation only (as rates_impl.hpp does)
-  static constexpr bool covered = FluidTerms<Dens>::covered && FluidTerms<Accel>::covered &&
-                                  ((FluidTerms<Dens>::diffusion == 3) == (FluidTerms<Accel>::viscosity == 2));
+  static constexpr bool covered = FluidTerms<Dens>::covered && FluidTerms<Accel>::covered;
   static const ParticleView<D>& view(const Pass& p) { return p.dens.s; }
   static void fill(SweepArgs& A, const Pass& p) {
     FluidTerms<Dens>::fill(A, p.dens);
