@@ -12,7 +12,7 @@
       best of the rounds, with the load average before each run (noisy on a shared machine).
 
   /usr/bin/python3 bench/simd_speedup.py [--bench build/release/bin/bench_step] [--mode callgrind|wall]
-      [--cases paper,dsph,box3d] [--threads 1,2] [--rounds 3]
+      [--cases paper,dsph,engineering,box3d] [--threads 1,2] [--rounds 3]
 
 The sweep is chosen by VARSPH_SIMD (scalar | auto); `auto` is the best of avx512 / avx2 this build and CPU have.
 """
@@ -34,6 +34,10 @@ CASES = {
     "paper_dsph": (os.path.join(P, "dam_break_2d_paper.json"), ['integrator.type="verlet_dsph"'], (2, 12), 400),
     # DualSPHysics' 2D validation set-up (Wendland, dynamic walls, Fourtakas, verlet_dsph): the peer case
     "dsph": (os.path.join(P, "dam_break_2d_dsph_val.json"), [], (1, 4), 60),
+    # the paper's dam break with Morris' laminar viscosity beside the artificial one (nu = 1e-6, water)
+    "paper_laminar": (os.path.join(P, "dam_break_2d_paper.json"), ['physics.laminar_viscosity={"nu": 1e-6}'], (2, 12), 400),
+    # the recommended engineering set-up (Wendland, dummy walls, Riemann solver, symplectic Euler; 5000 fluid)
+    "engineering": (os.path.join(P, "engineering_2d.json"), [], (1, 4), 60),
     # 3D block, cubic spline h = 1.732 dp as DualSPHysics' 3D case, coarsened to ~12k particles for callgrind
     "box3d": (os.path.join(P, "bench_box_3d.json"),
               ['kernel.type="cubic_spline"', "kernel.h_over_dx=1.732", "particles.spacing=0.0172"], (1, 3), 20),
@@ -92,7 +96,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--bench", default=os.path.join(ROOT, "build", "release", "bin", "bench_step"))
     ap.add_argument("--mode", choices=["callgrind", "wall"], default="callgrind")
-    ap.add_argument("--cases", default="paper,dsph,box3d")
+    ap.add_argument("--cases", default="paper,dsph,engineering,box3d")
     ap.add_argument("--threads", default="1,2")
     ap.add_argument("--rounds", type=int, default=3, help="wall mode: interleaved A/B rounds")
     a = ap.parse_args()

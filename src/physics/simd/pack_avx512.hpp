@@ -36,7 +36,9 @@ struct PackAvx512 {
   static I iscale(I j, int s) {
     return s == 1 ? j : s == 2 ? _mm256_slli_epi32(j, 1) : _mm256_add_epi32(j, _mm256_slli_epi32(j, 1));
   }
-  static V gather(const double* base, I j) { return _mm512_i32gather_pd(j, base, 8); }
+  static V gather(const double* base, I j) {  // masked: GCC 12 warns about the unmasked form's undefined source
+    return _mm512_mask_i32gather_pd(_mm512_setzero_pd(), __mmask8(0xFF), j, base, 8);
+  }
   static I trunc(V a) { return _mm512_cvttpd_epi32(a); }
   static V to_real(I a) { return _mm512_cvtepi32_pd(a); }
   static double hsum(V a) {  // fixed pairing: (0+4, 1+5, 2+6, 3+7), then as PackAvx2

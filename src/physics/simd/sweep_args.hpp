@@ -55,12 +55,14 @@ struct SweepArgs {
   bool continuity;    // drho_i/dt (DensityRatePass)
   bool acceleration;  // symmetric pressure term (AccelerationPass)
   int diffusion;      // 0 none, 1 Molteni & Colagrossi 2009, 2 Fourtakas et al. 2019
-  bool artificial_viscosity;  // Monaghan 1992
+  int viscosity;      // 0 none, 1 Monaghan 1992 artificial viscosity
+  bool laminar;       // + Morris 1997 laminar viscosity
   bool walls_only;            // no fluid-fluid terms: fluid particles hand their wall pairs to the finisher
   bool walls_active;          // boundary particles run the pass (dynamic walls' continuity)
   bool wall_continuity_vector;  // ... and their pair terms are the plain continuity sum (vector code)
   double diff_coef, diff_rho0, diff_rho0_over_B, gravity[3];
   double av_alpha_c0, av_beta, av_h, av_eps_h2;
+  double lam_nu, lam_eps_h2;  // physics/laminar_viscosity.hpp
   // portable finisher: pass.begin(i), the vector sums added (sums[0] drho, sums[1..dim] acceleration),
   // pass.pair() for every pair in `other`, pass.end(i)
   void (*finish)(const void* pass, std::uint32_t i, const double* sums, const NeighbourList& other);

@@ -127,10 +127,12 @@ struct Sweep {
   // Pair terms of particle i over S.vec; sums[0] += drho/dt, sums[1..D] += acceleration.
   // CONT: continuity, Monaghan 1992 (standard sign, PAPER-NOTES on seed eq. 67-68): m_j F (v_i - v_j) . x_ij
   // DIFF: + density diffusion (1 Molteni & Colagrossi 2009, 2 Fourtakas et al. 2019)
-  // ACC: - m_j (p_i/rho_i^2 + p_j/rho_j^2 [+ Pi_ij, AV: Monaghan 1992]) F x_ij (seed eq. 38)
-  template <bool CONT, bool ACC, int DIFF, bool AV>
+  // ACC: - m_j (p_i/rho_i^2 + p_j/rho_j^2 [+ Pi_ij, VISC 1: Monaghan 1992 artificial viscosity]) F x_ij (seed eq. 38)
+  // LAM: + Morris 1997 laminar viscosity, m_j nu (rho_i + rho_j) F r^2 / (rho_i rho_j (r^2 + eps h^2)) v_ij
+  template <bool CONT, bool ACC, int DIFF, int VISC, bool LAM>
   static void terms(const SweepArgs& A, std::uint32_t i, const NeighbourList& L, double* sums) {
     if constexpr (!CONT && !ACC) return;
+    constexpr bool need_rho_j = (CONT && DIFF > 0) || (ACC && (VISC > 0 || LAM));
     V vi[D];
     for (int a = 0; a < D; ++a) vi[a] = P::set1(A.v[D * std::size_t(i) + a]);
     const V rho_i = P::set1(A.rho[i]);
@@ -146,12 +148,17 @@ struct Sweep {
       const V F = grad_factor(A, r2);
       const V mj = P::gather(A.mass, j);
       const I jd = P::iscale(j, D);
+      V vij[D];
       V vx = P::zero();  // v_ij . x_ij
-      for (int a = 0; a < D; ++a) vx = P::fmadd(P::sub(vi[a], P::gather(A.v + a, jd)), x[a], vx);
+      for (int a = 0; a < D; ++a) {
+        vij[a] = P::sub(vi[a], P::gather(A.v + a, jd));
+        vx = P::fmadd(vij[a], x[a], vx);
+      }
+      V rho_j = P::zero();
+      if constexpr (need_rho_j) rho_j = P::gather(A.rho, j);
       if constexpr (CONT) {
         drho = P::fmadd(P::mul(mj, F), vx, drho);
         if constexpr (DIFF > 0) {
-          const V rho_j = P::gather(A.rho, j);
           V drho_ij = P::sub(rho_j, rho_i);
           if constexpr (DIFF == 2) {  // minus the hydrostatic part, Tait series to a^3 (density_diffusion.hpp)
             V gx = P::zero();
@@ -167,9 +174,8 @@ struct Sweep {
       }
       if constexpr (ACC) {
         V coef = P::add(pr_i, P::gather(A.p_over_rho2, j));
-        if constexpr (AV) {
+        if constexpr (VISC == 1) {
           // Pi_ij = h v.x (beta h v.x - alpha c0 (r^2 + eps h^2)) 2 / ((r^2 + eps h^2)^2 (rho_i + rho_j)) for v.x < 0
-          const V rho_j = P::gather(A.rho, j);
           const V den = P::add(r2, P::set1(A.av_eps_h2));
           const V hvx = P::mul(P::set1(A.av_h), vx);
           const V num = P::mul(hvx, P::sub(P::mul(P::set1(A.av_beta), hvx), P::mul(P::set1(A.av_alpha_c0), den)));
@@ -178,13 +184,18 @@ struct Sweep {
         }
         const V s = P::mul(P::mul(mj, coef), F);
         for (int a = 0; a < D; ++a) acc[a] = P::fnmadd(s, x[a], acc[a]);
+        if constexpr (LAM) {
+          const V num = P::mul(P::mul(P::mul(mj, P::set1(A.lam_nu)), P::add(rho_i, rho_j)), P::mul(F, r2));
+          const V lam = P::div(num, P::mul(P::mul(rho_i, rho_j), P::add(r2, P::set1(A.lam_eps_h2))));
+          for (int a = 0; a < D; ++a) acc[a] = P::fmadd(lam, vij[a], acc[a]);
+        }
       }
     }
     sums[0] += P::hsum(drho);
     for (int a = 0; a < D; ++a) sums[1 + a] += P::hsum(acc[a]);
   }
 
-  template <bool CONT, bool ACC, int DIFF, bool AV>
+  template <bool CONT, bool ACC, int DIFF, int VISC, bool LAM>
   static void run(const SweepArgs& A) {
     const long nb = A.n_blocks;
 #pragma omp parallel for schedule(dynamic, 4)
@@ -206,10 +217,10 @@ struct Sweep {
           neighbours(A, i, nc, S, 3);
         } else if (fluid) {
           neighbours(A, i, nc, S, 0);
-          terms<CONT, ACC, DIFF, AV>(A, i, S.vec, sums);
+          terms<CONT, ACC, DIFF, VISC, LAM>(A, i, S.vec, sums);
         } else if (A.wall_continuity_vector) {
           neighbours(A, i, nc, S, 1);
-          terms<true, false, 0, false>(A, i, S.vec, sums);
+          terms<true, false, 0, 0, false>(A, i, S.vec, sums);
         } else {
           neighbours(A, i, nc, S, 2);
         }
@@ -218,25 +229,33 @@ struct Sweep {
     }
   }
 
+  // with or without Morris' laminar viscosity beside the other terms
+  template <bool CONT, bool ACC, int DIFF, int VISC>
+  static void with_laminar(const SweepArgs& A) {
+    if (A.laminar) return run<CONT, ACC, DIFF, VISC, true>(A);
+    return run<CONT, ACC, DIFF, VISC, false>(A);
+  }
+
+  template <int DIFF>
+  static void fused_with(const SweepArgs& A) {
+    if (A.viscosity == 1) return with_laminar<true, true, DIFF, 1>(A);
+    return with_laminar<true, true, DIFF, 0>(A);
+  }
+
   static void dispatch(const SweepArgs& A) {
-    if (A.walls_only) return run<false, false, 0, false>(A);
+    if (A.walls_only) return run<false, false, 0, 0, false>(A);
     if (A.continuity && A.acceleration) {
-      if (A.artificial_viscosity) {
-        if (A.diffusion == 0) return run<true, true, 0, true>(A);
-        if (A.diffusion == 1) return run<true, true, 1, true>(A);
-        return run<true, true, 2, true>(A);
-      }
-      if (A.diffusion == 0) return run<true, true, 0, false>(A);
-      if (A.diffusion == 1) return run<true, true, 1, false>(A);
-      return run<true, true, 2, false>(A);
+      if (A.diffusion == 0) return fused_with<0>(A);
+      if (A.diffusion == 1) return fused_with<1>(A);
+      return fused_with<2>(A);
     }
     if (A.continuity) {
-      if (A.diffusion == 0) return run<true, false, 0, false>(A);
-      if (A.diffusion == 1) return run<true, false, 1, false>(A);
-      return run<true, false, 2, false>(A);
+      if (A.diffusion == 0) return run<true, false, 0, 0, false>(A);
+      if (A.diffusion == 1) return run<true, false, 1, 0, false>(A);
+      return run<true, false, 2, 0, false>(A);
     }
-    if (A.artificial_viscosity) return run<false, true, 0, true>(A);
-    return run<false, true, 0, false>(A);
+    if (A.viscosity == 1) return with_laminar<false, true, 0, 1>(A);
+    return with_laminar<false, true, 0, 0>(A);
   }
 };
 

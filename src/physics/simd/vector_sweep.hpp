@@ -2,8 +2,10 @@
 // Bridge from the scalar passes (physics/passes.hpp) to the vectorised sweep (sweep_args.hpp). A pass is
 // covered only if FluidTerms<Pass> is specialised for its exact type: today the continuity pass, the
 // acceleration pass and the fused sweep with the tabulated kernel, no / Molteni / Fourtakas diffusion and
-// no / artificial viscosity, for the wall models that exist now. Any other pass type - a new policy, a new
-// template parameter, laminar viscosity, exact kernels, the float build - keeps the scalar sweep
+// no / artificial viscosity, each with or without laminar viscosity, for the wall models that exist now.
+// Any other pass type - a new policy, a new template parameter, the Riemann solver's terms (a vector twin
+// measured slower than the scalar code: docs/performance.md), Antuono's delta-SPH, exact kernels, the
+// float build - keeps the scalar sweep
 // (vector_sweep() returns false). Pairs with a boundary particle always go through the pass's own
 // scalar pair(), so wall models never need a vector twin.
 #include <cstring>
@@ -62,22 +64,37 @@ struct FluidTerms<DensityRatePass<D, kernels::Tabulated<D>, M, Diff>> {
   static void add(Real& acc, const double* sums) { acc += sums[0]; }
 };
 
+// 0 none, 1 Monaghan's artificial viscosity (each maybe + Morris' laminar viscosity); -1 not covered
+template <class Visc>
+constexpr int viscosity_kind = std::is_same_v<Visc, NoViscosity> || std::is_same_v<Visc, LaminarViscosity> ? 0
+                               : std::is_same_v<Visc, ArtificialViscosity> ||
+                                       std::is_same_v<Visc, ArtificialAndLaminarViscosity>
+                                   ? 1
+                                   : -1;
+
 template <int D, class Visc, BoundaryModel M>
 struct FluidTerms<AccelerationPass<D, kernels::Tabulated<D>, Visc, M>> {
   using Pass = AccelerationPass<D, kernels::Tabulated<D>, Visc, M>;
-  static constexpr bool covered =
-      known_wall_model<M> && (std::is_same_v<Visc, NoViscosity> || std::is_same_v<Visc, ArtificialViscosity>);
+  static constexpr int viscosity = viscosity_kind<Visc>;
+  static constexpr bool covered = known_wall_model<M> && viscosity >= 0;
   static const ParticleView<D>& view(const Pass& p) { return p.s; }
   static void fill(SweepArgs& A, const Pass& p) {
     set_kernel(A, p.W);
     A.acceleration = true;
     A.p_over_rho2 = p.p_over_rho2;
-    if constexpr (std::is_same_v<Visc, ArtificialViscosity>) {
-      A.artificial_viscosity = true;
-      A.av_alpha_c0 = p.visc.alpha * p.visc.c0;
-      A.av_beta = p.visc.beta;
-      A.av_h = p.visc.h;
-      A.av_eps_h2 = p.visc.eps_h2;
+    A.viscosity = viscosity;
+    if constexpr (viscosity == 1) {
+      const ArtificialViscosity& av = p.visc;
+      A.av_alpha_c0 = av.alpha * av.c0;
+      A.av_beta = av.beta;
+      A.av_h = av.h;
+      A.av_eps_h2 = av.eps_h2;
+    }
+    if constexpr (Visc::laminar) {
+      const LaminarViscosity& lv = p.visc;
+      A.laminar = true;
+      A.lam_nu = lv.nu;
+      A.lam_eps_h2 = lv.eps_h2;
     }
   }
   static void add(typename Pass::Acc& acc, const double* sums) {
