@@ -41,9 +41,13 @@ def mpirun_prefix(ranks, bind):
     return [exe] + flags + ["-n", str(ranks)]
 
 
-def initial_dt(varsph, sets):
-    out = subprocess.run([varsph, "info", SCENE] + sets, capture_output=True, text=True, check=True).stdout
-    m = re.search(r"\bdt\b[^0-9]*([0-9.eE+-]+)\s*s", out)
+def initial_dt(varsph, sets, scene=SCENE, acoustic=False):
+    """The first step's dt from `varsph info`: the scene's fixed dt, else (or with acoustic=True) the acoustic
+    CFL limit it prints ("CFL limits  acoustic ...; with C = 0.2: 8e-05 s")."""
+    out = subprocess.run([varsph, "info", scene] + sets, capture_output=True, text=True, check=True).stdout
+    m = None if acoustic else re.search(r"^dt\s+([0-9.eE+-]+) s", out, re.M)  # "dt  0.000100 s (fixed)"
+    if not m:
+        m = re.search(r"with C = [0-9.eE+-]+: ([0-9.eE+-]+) s", out)
     if not m:
         sys.exit("scaling.py: could not read dt from `varsph info`:\n" + out)
     return float(m.group(1))

@@ -28,39 +28,23 @@ Partition<D> Partition<D>::build(Communicator& comm, const Coord& dims, std::spa
   std::vector<int> slot;
   std::vector<std::int64_t> hist, offset;
   while (!frontier.empty()) {
-    // axis of each box: the longest one that can be cut with enough cells on both sides
-    offset.assign(frontier.size() + 1, 0);
-    for (std::size_t k = 0; k < frontier.size(); ++k) {
-      Node& nd = part.nodes_[std::size_t(frontier[k])];
-      const int n = nd.r1 - nd.r0, nl = n / 2;
-      std::array<int, D> order;
-      for (int a = 0; a < D; ++a) order[a] = a;
-      std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-        return nd.box.hi[a] - nd.box.lo[a] > nd.box.hi[b] - nd.box.lo[b];
-      });
-      nd.axis = -1;
-      for (int a : order) {
-        const std::int64_t ext = nd.box.hi[a] - nd.box.lo[a], other = nd.box.volume() / std::max<std::int64_t>(ext, 1);
-        // some cut c in [1, ext-1] with c * other >= nl and (ext - c) * other >= n - nl
-        const std::int64_t cmin = (nl + other - 1) / other, cmax = ext - (n - nl + other - 1) / other;
-        if (ext >= 2 && cmin <= cmax && cmin >= 1 && cmax <= ext - 1) {
-          nd.axis = a;
-          break;
-        }
+    // one histogram per box and axis (every axis: the cut goes where the weight splits best), in one
+    // allreduce per tree level
+    offset.assign(frontier.size() * D + 1, 0);
+    for (std::size_t k = 0; k < frontier.size(); ++k)
+      for (int a = 0; a < D; ++a) {
+        const CellBox<D>& b = part.nodes_[std::size_t(frontier[k])].box;
+        offset[k * D + std::size_t(a) + 1] = offset[k * D + std::size_t(a)] + (b.hi[a] - b.lo[a]);
       }
-      if (nd.axis < 0)
-        throw std::invalid_argument("a box of " + std::to_string(nd.box.volume()) + " cells cannot be split among " +
-                                    std::to_string(n) + " ranks: use fewer ranks or a larger domain");
-      offset[k + 1] = offset[k] + (nd.box.hi[nd.axis] - nd.box.lo[nd.axis]);
-    }
     slot.assign(part.nodes_.size(), -1);
     for (std::size_t k = 0; k < frontier.size(); ++k) slot[std::size_t(frontier[k])] = int(k);
     hist.assign(std::size_t(offset.back()), 0);
     for (std::size_t i = 0; i < cells.size(); ++i) {
       const int k = slot[std::size_t(node_of[i])];
       if (k < 0) continue;
-      const Node& nd = part.nodes_[std::size_t(frontier[std::size_t(k)])];
-      hist[std::size_t(offset[std::size_t(k)] + cells[i][nd.axis] - nd.box.lo[nd.axis])] += weights[i];
+      const CellBox<D>& b = part.nodes_[std::size_t(frontier[std::size_t(k)])].box;
+      for (int a = 0; a < D; ++a)
+        hist[std::size_t(offset[std::size_t(k) * D + std::size_t(a)] + cells[i][a] - b.lo[a])] += weights[i];
     }
     comm.sum(hist);  // integers: the same sums, hence the same cuts, on every rank
     std::vector<int> next;
@@ -68,33 +52,50 @@ Partition<D> Partition<D>::build(Communicator& comm, const Coord& dims, std::spa
       const int id = frontier[k];
       Node nd = part.nodes_[std::size_t(id)];
       const int n = nd.r1 - nd.r0, nl = n / 2;
-      const int a = nd.axis;
-      const std::int64_t lo = nd.box.lo[a], ext = nd.box.hi[a] - lo, other = nd.box.volume() / ext;
-      const std::int64_t cmin = (nl + other - 1) / other, cmax = ext - (n - nl + other - 1) / other;
-      const std::int64_t* h = hist.data() + offset[k];
-      std::int64_t total = 0;
-      for (std::int64_t c = 0; c < ext; ++c) total += h[c];
-      // cut c (cells [0, c) left): weight on the left closest to nl / n of the total; without weight,
-      // the geometric share
-      std::int64_t best = std::clamp<std::int64_t>((ext * nl + n / 2) / n, cmin, cmax);
-      if (total > 0) {
+      // per axis that can be cut with enough cells on both sides: the cell boundary c (cells [0, c)
+      // left) whose left weight is closest to nl / n of the total, compared in integers (no rounding)
+      int a_best = -1;
+      std::int64_t best = 0;
+      long double best_err = -1;
+      std::array<std::int64_t, D> ext{};
+      for (int a = 0; a < D; ++a) ext[a] = nd.box.hi[a] - nd.box.lo[a];
+      std::array<int, D> order;
+      for (int a = 0; a < D; ++a) order[a] = a;
+      std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return ext[x] > ext[y]; });
+      for (int a : order) {  // longest axis first: it wins ties (and takes the geometric cut without weight)
+        const std::int64_t e = ext[a], other = nd.box.volume() / std::max<std::int64_t>(e, 1);
+        const std::int64_t cmin = (nl + other - 1) / other, cmax = e - (n - nl + other - 1) / other;
+        if (!(e >= 2 && cmin <= cmax && cmin >= 1 && cmax <= e - 1)) continue;
+        const std::int64_t* h = hist.data() + offset[k * D + std::size_t(a)];
+        std::int64_t total = 0;
+        for (std::int64_t c = 0; c < e; ++c) total += h[c];
+        if (total == 0) {  // no weight: the geometric share along the longest axis
+          if (a_best < 0) {
+            a_best = a;
+            best = std::clamp<std::int64_t>((e * nl + n / 2) / n, cmin, cmax);
+            best_err = 0;
+          }
+          break;
+        }
         std::int64_t cum = 0;
         for (std::int64_t c = 0; c < cmin; ++c) cum += h[c];
-        // |cum * n - total * nl| compared in integers (no rounding)
-        auto err = [&](std::int64_t left) {
-          const long double d = (long double)left * n - (long double)total * nl;
-          return d < 0 ? -d : d;
-        };
-        long double best_err = -1;
         for (std::int64_t c = cmin; c <= cmax; ++c) {
-          const long double e = err(cum);
-          if (best_err < 0 || e < best_err) {
-            best_err = e;
+          const long double d = (long double)cum * n - (long double)total * nl, err = d < 0 ? -d : d;
+          if (best_err < 0 || err < best_err) {
+            best_err = err;
             best = c;
+            a_best = a;
           }
           cum += h[c];
         }
       }
+      if (a_best < 0)
+        throw std::invalid_argument("a box of " + std::to_string(nd.box.volume()) + " cells cannot be split among " +
+                                    std::to_string(n) + " ranks: use fewer ranks or a larger domain");
+      const int a = a_best;
+      const std::int64_t lo = nd.box.lo[a];
+      nd.axis = a;
+      part.nodes_[std::size_t(id)].axis = a;
       Node left, right;
       left.box = right.box = nd.box;
       left.box.hi[a] = lo + best;

@@ -4,6 +4,7 @@
 // set) or VARSPH_MPI=1 asks for it; otherwise the run is the serial program, unchanged, and needs no
 // MPI runtime at all (tests and every command run directly keep working without mpirun).
 #include <memory>
+#include <string>
 
 #include "parallel/communicator.hpp"
 
@@ -34,5 +35,12 @@ bool mpi_compiled();
 // True when an MPI launcher started this process (environment variables of OpenMPI, MPICH/Hydra, PMIx,
 // Slurm's PMI) or VARSPH_MPI=1.
 bool launched_by_mpi();
+// The number of processes the launcher started (OMPI_COMM_WORLD_SIZE, PMI_SIZE, MV2_COMM_WORLD_SIZE,
+// SLURM_STEP_NUM_TASKS), 0 when none of them is set or readable.
+int launcher_world_size();
+// Why a build without MPI must not run as started, or "" when it may: under a launcher with more than one
+// process every copy would run the whole scene into the same run directory; VARSPH_MPI=1 asks for MPI
+// that is not there. Pure: the caller passes what it read.
+std::string refusal_without_mpi(bool mpi_compiled, bool launched, int world_size, bool forced);
 
 }  // namespace varsph::parallel

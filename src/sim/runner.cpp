@@ -567,6 +567,11 @@ class Runner {
       p["halo_bytes_sent"] = v[2];
       p["rebins"] = std::int64_t(v[3]) / comm_->size();
       p["max_particles_per_rank"] = comm_->max(double(sim.size()));
+      // the surface-to-volume law of the halo (docs/performance.md "Beyond one machine")
+      p["ghost_particles"] = std::int64_t(comm_->sum(double(sim.ghosts())));
+      p["max_ghost_particles_per_rank"] = comm_->max(double(sim.ghosts()));
+      p["max_halo_bytes_sent_per_rank"] = comm_->max(double(st.halo_bytes_sent));
+      p["halo_refreshes"] = st.refreshes;
     }
     return p;
   }
