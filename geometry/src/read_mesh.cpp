@@ -165,7 +165,11 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
     if (before[i] != fpolys[i]) ++flipped;
   Mesh mesh;
   PMP::polygon_soup_to_polygon_mesh(upts, fpolys, mesh);
-  if (!CGAL::is_triangle_mesh(mesh)) PMP::triangulate_faces(mesh);
+  // a polygon CGAL cannot split (degenerate or non-simple) stays a polygon: refused, since everything
+  // below reads three corners per face (a fuzzed 6-corner OBJ face overflowed out.F before this check)
+  if (!CGAL::is_triangle_mesh(mesh) && (!PMP::triangulate_faces(mesh) || !CGAL::is_triangle_mesh(mesh)))
+    throw GeometryError(path, "a polygon face cannot be split into triangles (degenerate or self-intersecting "
+                              "polygon?); expected triangles or simple planar polygons");
   {
     const std::size_t nf = mesh.number_of_faces();
     PMP::remove_degenerate_faces(mesh);

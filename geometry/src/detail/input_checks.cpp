@@ -1,6 +1,9 @@
 #include "detail/input_checks.h"
 
+#include <cerrno>
+#include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -53,34 +56,121 @@ void check_stl(const std::filesystem::path& path, std::uintmax_t size) {
     }
 }
 
-// OFF: "[ST][C][N][4][n]OFF [dim] nv nf ne" (ASCII). Each vertex line takes at least 6 bytes
-// ("0 0 0\n"), each face at least 2, so the declared counts must fit the size.
-void check_off(const std::filesystem::path& path, std::uintmax_t size) {
-  std::ifstream in(path, std::ios::binary);
-  std::string text(4096, '\0');
-  in.read(text.data(), std::streamsize(text.size()));
-  text.resize(std::size_t(in.gcount()));
-  std::istringstream s(text);
-  std::vector<std::string> tok;
-  std::string line;
-  while (tok.size() < 6 && std::getline(s, line)) {
-    if (auto h = line.find('#'); h != std::string::npos) line.resize(h);
-    std::istringstream ls(line);
-    for (std::string t; ls >> t;) tok.push_back(t);
+// OFF, read as CGAL 5.5's File_scanner_OFF reads it: "[ST][C][N][4][n]OFF [dim] nv nf ne" (ASCII) or
+// "... OFF BINARY" and big-endian int32 counts, then one line per vertex and one per face (ASCII). CGAL
+// resizes the soup to the declared counts, and each face to the first number of its line, before it checks
+// that the file holds them (a fuzzed face line "70150000000000001 0" asked for 5e17 bytes), so the counts
+// and every face size are checked here first. A file CGAL cannot parse is left to CGAL's own error.
+struct OffCursor {
+  const std::string& d;
+  std::size_t p = 0;
+  bool space() const { return p < d.size() && std::isspace(static_cast<unsigned char>(d[p])); }
+  void skip_space() { while (space()) ++p; }
+  void skip_comments() {  // CGAL's skip_comment_OFF: whitespace and lines starting with '#'
+    for (skip_space(); p < d.size() && d[p] == '#'; skip_space()) {
+      const auto eol = d.find('\n', p);
+      p = eol == std::string::npos ? d.size() : eol + 1;
+    }
   }
-  if (tok.empty() || tok[0].size() < 3 || tok[0].compare(tok[0].size() - 3, 3, "OFF") != 0) return;  // CGAL decides
-  std::size_t k = 1;
-  if (tok[0].find('n') != std::string::npos) ++k;  // nOFF: dimension first
-  if (k < tok.size() && tok[k] == "BINARY") return;  // binary OFF: CGAL reads counts itself
-  if (k + 1 >= tok.size()) return;
-  const double nv = std::strtod(tok[k].c_str(), nullptr), nf = std::strtod(tok[k + 1].c_str(), nullptr);
-  if (!(nv >= 0) || !(nf >= 0))
-    throw GeometryError(path, "OFF header declares negative vertex or face counts ('" + tok[k] + " " + tok[k + 1] +
-                              "'); expected 'OFF nv nf ne'");
-  if (6 * nv + 2 * nf > double(size))
-    throw GeometryError(path, "OFF header declares " + tok[k] + " vertices and " + tok[k + 1] +
-                              " faces, more than a file of " + std::to_string(size) +
-                              " bytes can hold; expected counts that match the file (truncated or damaged header?)");
+  bool read_int(long long& v) {  // `in >> int`
+    skip_space();
+    if (p >= d.size()) return false;
+    const char* b = d.c_str() + p;
+    char* e = nullptr;
+    errno = 0;
+    v = std::strtoll(b, &e, 10);
+    if (e == b || errno == ERANGE || v > INT32_MAX || v < INT32_MIN) return false;
+    p += std::size_t(e - b);
+    return true;
+  }
+  std::string line() {  // std::getline
+    const auto eol = d.find('\n', p);
+    std::string l = d.substr(p, eol == std::string::npos ? std::string::npos : eol - p);
+    p = eol == std::string::npos ? d.size() : eol + 1;
+    return l;
+  }
+};
+
+void check_off(const std::filesystem::path& path, std::uintmax_t size) {
+  const std::string data = read_all(path);
+  OffCursor c{data};
+  auto bad = [&](const std::string& what) {
+    throw GeometryError(path, what + "; expected an OFF file whose counts match its data (truncated or damaged?)");
+  };
+  c.skip_comments();
+  if (c.p >= data.size()) return;
+  std::string key(1, data[c.p++]);
+  while (c.p < data.size() && std::isalnum(static_cast<unsigned char>(data[c.p]))) key += data[c.p++];
+  if (c.p < data.size()) ++c.p;  // CGAL consumes the character that ends the keyword
+  if (key.size() < 3 || key.compare(key.size() - 3, 3, "OFF") != 0) return;  // SKEL or not OFF: CGAL decides
+  const std::string flags = key.substr(0, key.size() - 3);
+  const bool ndim = flags.find('n') != std::string::npos;
+  c.skip_comments();
+  long long nv = 0, nf = 0, ne = 0;
+  if (c.p < data.size() && !std::isdigit(static_cast<unsigned char>(data[c.p])) && data[c.p] != '-') {
+    // "OFF BINARY": big-endian int32 [dim] nv nf ne after the end of that line
+    if (data.compare(c.p, 6, "BINARY") != 0) return;
+    if (!flags.empty())
+      bad("binary OFF with '" + flags + "' (colours, normals, textures or dimensions) is not read");
+    const auto eol = data.find('\n', c.p);
+    std::size_t q = eol == std::string::npos ? data.size() : eol + 1;
+    auto i32 = [&](long long& v) {
+      if (q + 4 > data.size()) return false;
+      std::uint32_t u = 0;
+      for (int k = 0; k < 4; ++k) u = (u << 8) | static_cast<unsigned char>(data[q + std::size_t(k)]);
+      q += 4;
+      v = static_cast<std::int32_t>(u);
+      return true;
+    };
+    if (!i32(nv) || !i32(nf) || !i32(ne)) return;
+    if (nv < 0 || nf < 0 || 12.0 * double(nv) + 4.0 * double(nf) > double(size - q))
+      bad("binary OFF header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+          " faces, more than a file of " + std::to_string(size) + " bytes can hold");
+    q += 12 * std::size_t(nv);  // three float32 per vertex
+    for (long long f = 0; f < nf; ++f) {
+      long long n = 0;
+      if (!i32(n)) return;  // CGAL reports the premature end
+      if (n < 0 || 4.0 * double(n) > double(data.size() - q))
+        bad("binary OFF face " + std::to_string(f) + " declares " + std::to_string(n) +
+            " vertices, more than the rest of the file holds");
+      q += 4 * std::size_t(n);
+    }
+    return;
+  }
+  if (ndim && !c.read_int(nv)) return;  // nOFF: the dimension first
+  if (!c.read_int(nv) || !c.read_int(nf) || !c.read_int(ne)) return;
+  if (nv < 0 || nf < 0)
+    bad("OFF header declares negative vertex or face counts (" + std::to_string(nv) + " " + std::to_string(nf) + ")");
+  // each vertex line takes at least 6 bytes ("0 0 0\n"), each face at least 2
+  if (6.0 * double(nv) + 2.0 * double(nf) > double(size))
+    bad("OFF header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+        " faces, more than a file of " + std::to_string(size) + " bytes can hold");
+  for (long long v = 0; v < nv; ++v) {
+    c.skip_comments();
+    if (c.p >= data.size()) return;  // CGAL reports the premature end
+    (void)c.line();
+  }
+  for (long long f = 0; f < nf; ++f) {
+    c.skip_comments();
+    if (c.p >= data.size()) return;
+    std::string l = c.line();
+    if (const auto h = l.find('#'); h != std::string::npos) l.resize(h);
+    // CGAL's first number: an optional sign, then the run of [0-9.eE+-], through sscanf("%lf")
+    std::size_t k = 0;
+    while (k < l.size() && std::isspace(static_cast<unsigned char>(l[k]))) ++k;
+    std::string num;
+    if (k < l.size() && (l[k] == '-' || l[k] == '+')) {
+      if (l[k] == '-') num += '-';
+      ++k;
+    }
+    while (k < l.size() && (std::isdigit(static_cast<unsigned char>(l[k])) || std::strchr(".eE+-", l[k]))) num += l[k++];
+    double n = 0;
+    if (std::sscanf(num.c_str(), "%lf", &n) != 1) return;  // CGAL fails on this face
+    // a face of n corners takes at least 2n + 1 characters ("3 0 1 2")
+    if (!(n >= 0 && n <= double(l.size()) / 2))
+      bad("OFF face " + std::to_string(f) + " declares " + num + " vertices but its line has " +
+          std::to_string(l.size()) + " characters");
+  }
 }
 
 // PLY: walks the header and the element data without storing it, so that no element count and no list
@@ -88,7 +178,20 @@ void check_off(const std::filesystem::path& path, std::uintmax_t size) {
 struct PlyProperty {
   bool list = false;
   int count_bytes = 0, value_bytes = 0;
+  bool value_float = false;  // float/double values (CGAL reads them differently from integers in ASCII)
+  double count_max = 0;      // the largest count its type holds
 };
+
+bool ply_float_type(const std::string& t) { return t == "float" || t == "float32" || t == "double" || t == "float64"; }
+
+double ply_int_max(const std::string& t) {
+  if (t == "char" || t == "int8") return 127;
+  if (t == "uchar" || t == "uint8") return 255;
+  if (t == "short" || t == "int16") return 32767;
+  if (t == "ushort" || t == "uint16") return 65535;
+  if (t == "int" || t == "int32") return 2147483647.0;
+  return 4294967295.0;
+}
 struct PlyElement {
   std::string name;
   double count = 0;
@@ -105,30 +208,43 @@ int ply_type_bytes(const std::string& t) {
 
 void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
   const std::string data = read_all(path);
-  const auto end = data.find("end_header");
-  if (data.compare(0, 3, "ply") != 0 || end == std::string::npos) return;  // CGAL reports it
+  if (data.compare(0, 3, "ply") != 0) return;  // CGAL reports it
   auto bad = [&](const std::string& what) {
     throw GeometryError(path, what + "; expected a PLY file whose header matches its data (truncated or damaged?)");
   };
-  std::istringstream head(data.substr(0, end));
+  // the header line by line as CGAL 5.5's PLY_reader::init reads it (format on line 2, a keyword first
+  // on each line, up to the line "end_header"), so that this walk and CGAL's read agree on every byte
   std::string line, format;
   std::vector<PlyElement> elements;
-  while (std::getline(head, line)) {
+  std::size_t pos = 0, number = 0;
+  bool ended = false;
+  while (!ended && pos < data.size()) {
+    const auto eol = data.find('\n', pos);
+    line = data.substr(pos, eol == std::string::npos ? std::string::npos : eol - pos);
+    pos = eol == std::string::npos ? data.size() : eol + 1;
     std::istringstream ls(line);
     std::string w;
     ls >> w;
-    if (w == "format") ls >> format;
+    if (++number == 2) {
+      ls >> format;
+      continue;
+    }
+    if (number == 1) continue;
+    if (w == "end_header") ended = true;
     if (w == "element") {
       PlyElement e;
-      std::string n;
-      ls >> e.name >> n;
-      e.count = std::strtod(n.c_str(), nullptr);
-      if (!(e.count >= 0) || e.count > double(size))
-        bad("PLY header declares " + n + " '" + e.name + "' elements, more than a file of " + std::to_string(size) +
-            " bytes can hold");
+      std::size_t n = 0;
+      if (!(ls >> e.name >> n)) return;  // CGAL refuses the header
+      e.count = double(n);
+      if (e.count > double(size))
+        bad("PLY header declares " + std::to_string(n) + " '" + e.name + "' elements, more than a file of " +
+            std::to_string(size) + " bytes can hold");
       elements.push_back(e);
     }
-    if (w == "property" && !elements.empty()) {
+    if (w == "property") {
+      // CGAL appends a property to the last element (undefined behaviour without one: a fuzzed header)
+      // and silently drops one of a type it does not know, which would shift its read against this walk
+      if (elements.empty()) bad("PLY header has a property line before any element line");
       std::string t;
       ls >> t;
       PlyProperty p;
@@ -138,29 +254,40 @@ void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
         p.list = true;
         p.count_bytes = ply_type_bytes(ct);
         p.value_bytes = ply_type_bytes(vt);
+        p.value_float = ply_float_type(vt);
+        if (p.count_bytes == 0 || ply_float_type(ct)) bad("PLY list count type '" + ct + "' is not an integer type");
+        p.count_max = ply_int_max(ct);
       } else {
         p.value_bytes = ply_type_bytes(t);
+        p.value_float = ply_float_type(t);
       }
-      if (p.value_bytes == 0 || (p.list && p.count_bytes == 0)) return;  // unknown type: CGAL reports it
+      if (p.value_bytes == 0) bad("PLY property type '" + (p.list ? line : t) + "' is not a PLY type");
       elements.back().props.push_back(p);
     }
   }
-  std::size_t pos = data.find('\n', end);
-  pos = pos == std::string::npos ? data.size() : pos + 1;
+  if (!ended) return;  // CGAL reports it
   const bool ascii = format == "ascii";
   if (!ascii && format != "binary_little_endian" && format != "binary_big_endian") return;  // CGAL reports it
   const bool big = format == "binary_big_endian";
-  auto next_token = [&](double& v) {  // ASCII: next number, false at the end of the file
+  // ASCII: the next value as CGAL reads it: integers by `>>` (an optional sign and digits), floating point
+  // by CGAL's iformat (an optional sign and the run of [0-9.eE+-] through sscanf). 0: the file ends,
+  // 1: read, 2: CGAL's read fails here (it then stops without allocating anything more)
+  auto next_value = [&](bool floating, double& v) {
     while (pos < data.size() && std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
-    if (pos >= data.size()) return false;
-    const char* b = data.c_str() + pos;
-    char* e = nullptr;
-    v = std::strtod(b, &e);
-    if (e == b) { v = NAN; ++pos; return true; }
-    pos += std::size_t(e - b);
-    return true;
+    if (pos >= data.size()) return 0;
+    std::string num;
+    std::size_t q = pos;
+    if (data[q] == '-' || data[q] == '+') num += data[q++];
+    const char* more = floating ? "0123456789.eE+-" : "0123456789";
+    while (q < data.size() && data[q] != '\0' && std::strchr(more, data[q])) num += data[q++];
+    pos = q;
+    if (num.empty() || !(floating ? std::sscanf(num.c_str(), "%lf", &v) == 1
+                                  : std::isdigit(static_cast<unsigned char>(num.back()))))
+      return 2;
+    if (!floating) v = std::strtod(num.c_str(), nullptr);
+    return 1;
   };
-  auto read_count = [&](int bytes, double& v) {  // binary: an unsigned/signed integer count
+  auto read_count = [&](int bytes, double max, double& v) {  // binary: an unsigned/signed integer count
     if (pos + std::size_t(bytes) > data.size()) return false;
     std::uint64_t u = 0;
     for (int b = 0; b < bytes; ++b) {
@@ -168,8 +295,9 @@ void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
       u = (u << 8) | byte;
     }
     pos += std::size_t(bytes);
-    // signed types: a set top bit is a negative length
-    v = (bytes < 8 && (u >> (8 * bytes - 1)) != 0) ? -1.0 : double(u);
+    // signed types (max 2^(8 bytes - 1) - 1): a set top bit is a negative length
+    const bool is_signed = max < std::ldexp(1.0, 8 * bytes - 1);
+    v = (is_signed && (u >> (8 * bytes - 1)) != 0) ? -1.0 : double(u);
     return true;
   };
   for (const auto& e : elements) {
@@ -177,16 +305,20 @@ void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
       for (const auto& p : e.props) {
         double n = 1;
         if (p.list) {
-          if (!(ascii ? next_token(n) : read_count(p.count_bytes, n)))
-            bad("PLY data ends inside '" + e.name + "' element " + std::to_string(std::int64_t(i)));
-          if (!(n >= 0) || n != std::floor(n) || n * (ascii ? 1 : p.value_bytes) > double(data.size() - pos))
+          const int got = ascii ? next_value(false, n) : read_count(p.count_bytes, p.count_max, n) ? 1 : 0;
+          if (got == 0) bad("PLY data ends inside '" + e.name + "' element " + std::to_string(std::int64_t(i)));
+          if (got == 2) return;  // CGAL stops here
+          if (!(n >= 0) || n > p.count_max || n * (ascii ? 1 : p.value_bytes) > double(data.size() - pos))
             bad("PLY '" + e.name + "' element " + std::to_string(std::int64_t(i)) + " declares a list of " +
                 std::to_string(n) + " entries, more than the rest of the file can hold");
         }
         if (ascii) {
           double v;
-          for (double k = 0; k < n; ++k)
-            if (!next_token(v)) bad("PLY data ends inside '" + e.name + "' element " + std::to_string(std::int64_t(i)));
+          for (double k = 0; k < n; ++k) {
+            const int got = next_value(p.value_float, v);
+            if (got == 0) bad("PLY data ends inside '" + e.name + "' element " + std::to_string(std::int64_t(i)));
+            if (got == 2) return;  // CGAL stops here
+          }
         } else {
           const double bytes = n * p.value_bytes;
           if (bytes > double(data.size() - pos))
