@@ -502,20 +502,23 @@ void Domain<D>::build_topology(std::span<const Vec<D>> x, NeighborGrid<D>& grid)
         }
       }
       if (!valid) continue;
+      // the row's x offsets are consecutive window cells: its index and the shift of axes 1.. once per row
+      u[0] = c[0];
+      const std::size_t row_index = window_index(u);
+      std::uint32_t row_shift = 0, mul = 3;
+      for (int a = 1; a < D; ++a) {
+        row_shift += std::uint32_t(wrap[a] + 1) * mul;
+        mul *= 3;
+      }
       for (int dx = -m_; dx <= m_; ++dx) {
-        u[0] = c[0] + dx;
-        wrap[0] = 0;
-        if (u[0] < 0 || u[0] >= dims_[0]) {
+        const std::int64_t x = c[0] + dx;
+        std::uint32_t w0 = 1;  // wrap[0] + 1
+        if (x < 0 || x >= dims_[0]) {
           if (!periodic_[0]) continue;
-          wrap[0] = u[0] < 0 ? -1 : 1;
+          w0 = x < 0 ? 0 : 2;
         }
-        std::uint32_t shift = 0, mul = 1;
-        for (int a = 0; a < D; ++a) {
-          shift += std::uint32_t(wrap[a] + 1) * mul;
-          mul *= 3;
-        }
-        const auto& r = window_[window_index(u)];
-        push(r[0], r[1], shift);
+        const auto& r = window_[std::size_t(std::ptrdiff_t(row_index) + dx)];
+        push(r[0], r[1], row_shift + w0);
       }
     }
     if (have) ranges_.push_back(pending);
