@@ -61,6 +61,7 @@ std::uint32_t parallel_exclusive_scan(long m, Get&& get, Set&& set) {
 
 template <int D>
 void NeighborGrid<D>::configure(const Options& opt) {
+  ++generation_;
   opt_ = opt;
   if (!(opt.cell_size > 0)) throw std::invalid_argument("neighbour grid: cell size must be positive");
   m_ = opt.hashed ? 1 : std::max(1, opt.subdivision);
@@ -136,6 +137,7 @@ Vec<D> NeighborGrid<D>::wrap_shift(const Vec<D>& x) const {
 template <int D>
 void NeighborGrid<D>::build(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm) {
   local_ = false;
+  ++generation_;
   if (opt_.hashed) build_hashed(x, perm);
   else build_uniform(x, perm);
 }

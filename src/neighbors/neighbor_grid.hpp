@@ -59,12 +59,16 @@ class NeighborGrid {
                     std::vector<std::array<std::uint32_t, 2>>& window) {
     blocks_.swap(blocks);
     ranges_.swap(ranges);
+    ++generation_;
     window_lo_ = window_lo;
     window_ext_ = window_ext;
     window_.swap(window);
     local_ = true;
   }
   const std::vector<NeighborRange>& ranges() const { return ranges_; }
+  // Changes whenever blocks(), ranges() or the cells change (configure, build, set_topology): a cache of
+  // anything derived from them is valid only for the generation it was made for.
+  std::uint64_t generation() const { return generation_; }
   const Vec<D>& shift(std::uint32_t id) const { return shifts_[id]; }
   Real cell_size(int axis) const { return cell_[axis]; }
   const std::array<std::int64_t, D>& cells_per_axis() const { return dims_; }
@@ -100,6 +104,7 @@ class NeighborGrid {
   std::vector<Vec<D>> shifts_;  // 3^D images: wrap in {-1,0,1} per axis
   std::vector<CellBlock> blocks_;
   std::vector<NeighborRange> ranges_;
+  std::uint64_t generation_ = 0;
   // scratch reused between builds (no allocation after the first build of a given size)
   std::vector<std::uint64_t> key_;       // hashed: bucket per particle
   std::vector<std::uint32_t> cell_key_;  // uniform: cell per particle

@@ -142,7 +142,7 @@ class RatesImpl final : public Rates<D> {
   // the vectorised sweep where it covers the pass (physics/simd/), else the scalar one (the reference)
   template <class Pass>
   void sweep(const NeighborGrid<D>& g, const ParticleView<D>& s, Pass& pass) const {
-    if (!simd::vector_sweep<D>(isa_, g, pass)) for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+    if (!simd::vector_sweep<D>(isa_, g, pass, &lists_)) for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
   }
   template <class Visc, BoundaryModel M>
   static void run_acc(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) {
@@ -313,6 +313,7 @@ class RatesImpl final : public Rates<D> {
 
   PhysicsParams<D> p_;
   simd::Isa isa_ = simd::choose_isa();  // VARSPH_SIMD or the best this build and CPU have
+  mutable simd::ListCache lists_;         // neighbour lists kept between passes over one configuration
   Kernel W_;
   RepulsiveWall wall_;
   SoftRepulsiveWall soft_;

@@ -16,6 +16,7 @@
 
 #include "core/errors.hpp"
 #include "physics/simd/isa.hpp"
+#include "physics/simd/list_cache.hpp"
 #include "scene/json_reader.hpp"
 #include "scene/scene.hpp"
 #include "sim/simulation.hpp"
@@ -302,6 +303,61 @@ void expect_trajectories_agree(const std::vector<std::string>& sets, bool no_vis
 TEST(SimdSweep, DamBreakTrajectoryAgreesWithTheScalarSweep) {
   REQUIRE_VECTOR_ISA();
   expect_trajectories_agree({}, false, "paper dam break");
+}
+
+namespace {
+
+// Runs `steps` steps of the paper's dam break with `sets`, the neighbour lists reused between passes over
+// the same configuration (default) or rebuilt in every pass; returns the final positions, velocities and
+// densities by particle id, and the number of passes that reused lists.
+struct Final {
+  std::vector<double> state;
+  std::uint64_t reuses;
+};
+Final run_lists(const char* mode, const std::vector<std::string>& sets, int steps) {
+  setenv("VARSPH_NEIGHBOUR_LISTS", mode, 1);
+  const std::uint64_t before = physics::simd::ListCache::total_reuses();
+  const auto file = test::source_dir() / "pipelines" / "dam_break_2d_paper.json";
+  Simulation<2> sim(scene::parse_scene(file, sets));
+  unsetenv("VARSPH_NEIGHBOUR_LISTS");
+  for (int k = 0; k < steps; ++k) sim.advance();
+  const auto& f = sim.fields();
+  std::vector<double> out(sim.size() * 5);
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    const std::size_t at = 5 * std::size_t(f.id[i]);
+    out[at] = f.x[i][0], out[at + 1] = f.x[i][1], out[at + 2] = f.v[i][0], out[at + 3] = f.v[i][1], out[at + 4] = f.rho[i];
+  }
+  return {out, physics::simd::ListCache::total_reuses() - before};
+}
+
+void expect_reuse_is_bitwise(const std::vector<std::string>& sets, int steps, const char* what) {
+  const Final rebuilt = run_lists("rebuild", sets, steps), reused = run_lists("reuse", sets, steps);
+  std::printf("%s, %d steps: %llu passes reused their lists\n", what, steps, (unsigned long long)reused.reuses);
+  EXPECT_EQ(rebuilt.reuses, 0u) << what;
+  EXPECT_GE(reused.reuses, std::uint64_t(steps - 2)) << what << ": the lists were not reused";
+  ASSERT_EQ(rebuilt.state.size(), reused.state.size());
+  EXPECT_EQ(0, std::memcmp(rebuilt.state.data(), reused.state.data(), rebuilt.state.size() * sizeof(double))) << what;
+}
+
+}  // namespace
+
+// The density pass at q_{k+1} and the next step's force pass at the same q_{k+1} share their lists
+// (physics/simd/list_cache.hpp): results bitwise those of lists rebuilt in every pass.
+TEST(SimdSweep, ReusedNeighbourListsGiveBitwiseTheSameRun) {
+  REQUIRE_VECTOR_ISA();
+  expect_reuse_is_bitwise({}, 150, "paper dam break (verlet, repulsive walls)");
+  expect_reuse_is_bitwise({"boundary.model=\"dynamic\"", "physics.density_diffusion={\"type\": \"fourtakas\", \"delta\": 0.1}",
+                           "integrator={\"type\": \"symplectic_euler\", \"cfl\": 0.2}"},
+                          100, "symplectic Euler, dynamic walls (wall particles in the density pass)");
+  // every fixed-point iteration evaluates continuity and forces at one midpoint
+  expect_reuse_is_bitwise({"integrator={\"type\": \"variational\", \"alpha\": 0.5, \"dt\": 1e-4}"}, 40,
+                          "variational alpha 0.5");
+}
+
+TEST(SimdSweep, UnknownNeighbourListModeIsAnInputError) {
+  setenv("VARSPH_NEIGHBOUR_LISTS", "sometimes", 1);
+  EXPECT_THROW(physics::simd::ListCache{}, InputError);
+  unsetenv("VARSPH_NEIGHBOUR_LISTS");
 }
 
 TEST(SimdSweep, UnknownRequestIsAnInputError) {

@@ -68,6 +68,12 @@ struct SweepArgs {
   void (*finish)(const void* pass, std::uint32_t i, const double* sums, const NeighbourList& other);
   const void* pass;
   SweepScratch* (*scratch)(std::uint32_t candidates);  // this thread's scratch, for up to that many candidates
+  // neighbour lists kept between passes over the same configuration (physics/simd/list_cache.hpp): 0 none,
+  // 1 store every fluid particle's two lists, 2 take them from the store instead of the candidate test
+  int list_mode;
+  void* lists;
+  void (*store_lists)(void* lists, std::uint32_t i, const NeighbourList& vec, const NeighbourList& other);
+  void (*load_lists)(const void* lists, std::uint32_t i, NeighbourList& vec, NeighbourList& other);
 };
 
 // The sweeps, one per instruction set (sweep_avx2.cpp, sweep_avx512.cpp).

@@ -207,7 +207,7 @@ struct Sweep {
       for (std::uint32_t i = blk[0]; i < blk[1]; ++i) {
         const bool fluid = A.kind[i] == 0;
         if (!fluid && !A.walls_active) continue;
-        if (!gathered) {
+        if (!gathered && !(fluid && A.list_mode == 2 && !A.walls_only)) {
           nc = gather_candidates(A, blk, S);
           gathered = true;
         }
@@ -216,7 +216,15 @@ struct Sweep {
           if (!fluid) continue;
           neighbours(A, i, nc, S, 3);
         } else if (fluid) {
+          if (A.list_mode == 2) {  // the lists of this configuration, stored by an earlier pass
+            NeighbourList vec, other;
+            A.load_lists(A.lists, i, vec, other);
+            terms<CONT, ACC, DIFF, VISC, LAM>(A, i, vec, sums);
+            A.finish(A.pass, i, sums, other);
+            continue;
+          }
           neighbours(A, i, nc, S, 0);
+          if (A.list_mode == 1) A.store_lists(A.lists, i, S.vec, S.other);
           terms<CONT, ACC, DIFF, VISC, LAM>(A, i, S.vec, sums);
         } else if (A.wall_continuity_vector) {
           neighbours(A, i, nc, S, 1);

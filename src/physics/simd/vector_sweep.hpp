@@ -16,6 +16,7 @@
 #include "kernels/tabulated.hpp"
 #include "neighbors/neighbor_grid.hpp"
 #include "physics/passes.hpp"
+#include "physics/simd/list_cache.hpp"
 #include "physics/simd/sweep_args.hpp"
 
 namespace varsph::physics::simd {
@@ -137,9 +138,10 @@ SweepScratch* thread_scratch(std::uint32_t candidates);
 void run_sweep(Isa isa, const SweepArgs& args);
 
 // Runs `pass` with the vectorised sweep when this build, the chosen ISA and the pass type allow it;
-// returns false (nothing done) otherwise, and the caller runs the scalar sweep.
+// returns false (nothing done) otherwise, and the caller runs the scalar sweep. `lists`: neighbour lists
+// kept between passes over the same configuration (list_cache.hpp), or none.
 template <int D, class Pass>
-bool vector_sweep(Isa isa, const NeighborGrid<D>& grid, const Pass& pass) {
+bool vector_sweep(Isa isa, const NeighborGrid<D>& grid, const Pass& pass, ListCache* lists = nullptr) {
   if constexpr (!FluidTerms<Pass>::covered || !std::is_same_v<Real, double>) {
     return false;
   } else {
@@ -162,6 +164,7 @@ bool vector_sweep(Isa isa, const NeighborGrid<D>& grid, const Pass& pass) {
     A.finish = &finish_particle<D, Pass>;
     A.pass = &pass;
     A.scratch = &thread_scratch;
+    if (lists) lists->prepare(A, &grid, grid.generation(), s.x.size(), isa == Isa::Avx512 ? 8 : 4);
     run_sweep(isa, A);
     return true;
   }
