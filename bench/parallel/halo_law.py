@@ -13,7 +13,7 @@ free exponent, and the serial cost per particle-step (1 rank, 1 thread: the step
 difference). Rank counts above the core count are oversubscribed: their bytes are exact, their times are
 not used.
 
-  python3 bench/parallel/halo_law.py                      # ~10 min on 2 shared cores
+  python3 bench/parallel/halo_law.py                      # ~12 min on 2 shared cores (load 3-6)
   python3 bench/parallel/halo_law.py --dims 3 --ranks 2,4 --scales3 1,10
 """
 import argparse
@@ -85,7 +85,7 @@ def main():
     ap.add_argument("--dims", default="2,3")
     ap.add_argument("--ranks", default="2,3,4")
     ap.add_argument("--scales2", default="1,4,16,64", help="2D particle counts, multiples of 1682 fluid")
-    ap.add_argument("--scales3", default="1,3,10,30", help="3D particle counts, multiples of ~1e4 fluid")
+    ap.add_argument("--scales3", default="1,3,10", help="3D particle counts, multiples of ~1e4 fluid")
     ap.add_argument("--short", type=int, default=10)
     ap.add_argument("--long", type=int, default=40)
     ap.add_argument("--varsph", default=os.path.join(ROOT, "build", "release", "bin", "varsph"))
