@@ -10,33 +10,12 @@
 #include <numeric>
 #include <vector>
 
+#include "parallel/all_in_one_communicator.hpp"
 #include "parallel/partition.hpp"
 
 using namespace varsph::parallel;
 
 namespace {
-
-class AllInOne final : public Communicator {
- public:
-  explicit AllInOne(int p) : p_(p) {}
-  int rank() const override { return 0; }
-  int size() const override { return p_; }
-  void sum(std::span<double>) override {}
-  void sum(std::span<std::int64_t>) override {}
-  void max(std::span<double>) override {}
-  void min(std::span<double>) override {}
-  std::int64_t exscan(std::int64_t) override { return 0; }
-  std::vector<std::int64_t> allgather(std::int64_t v) override { return {v}; }
-  std::vector<double> allgather(double v) override { return {v}; }
-  std::string broadcast(const std::string& s, int) override { return s; }
-  void barrier() override {}
-  std::vector<std::int64_t> alltoall(const std::vector<std::int64_t>& c) override { return c; }
-  void begin_exchange(std::span<const Message>, std::span<const Message>) override {}
-  void finish_exchange() override {}
-
- private:
-  int p_;
-};
 
 template <int D>
 void row(const std::array<std::int64_t, D>& base, int refine, int P) {
@@ -60,7 +39,7 @@ void row(const std::array<std::int64_t, D>& base, int refine, int P) {
     while (a < D && ++idx[a] == dims[a]) idx[a++] = 0;
     if (a == D) break;
   }
-  AllInOne comm(P);
+  AllInOneCommunicator comm(P);
   const auto part = Partition<D>::build(comm, dims, cells, w);
   std::vector<double> load(std::size_t(P), 0.0);
   for (std::size_t i = 0; i < cells.size(); ++i) load[std::size_t(part.owner(cells[i]))] += w[i];

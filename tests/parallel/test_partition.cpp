@@ -7,33 +7,11 @@
 #include <numeric>
 #include <random>
 
+#include "parallel/all_in_one_communicator.hpp"
 #include "parallel/partition.hpp"
 
 namespace varsph::parallel {
 namespace {
-
-// P ranks whose particles all live in this process: every reduction is the identity.
-class AllInOne final : public Communicator {
- public:
-  explicit AllInOne(int p) : p_(p) {}
-  int rank() const override { return 0; }
-  int size() const override { return p_; }
-  void sum(std::span<double>) override {}
-  void sum(std::span<std::int64_t>) override {}
-  void max(std::span<double>) override {}
-  void min(std::span<double>) override {}
-  std::int64_t exscan(std::int64_t) override { return 0; }
-  std::vector<std::int64_t> allgather(std::int64_t v) override { return {v}; }
-  std::vector<double> allgather(double v) override { return {v}; }
-  std::string broadcast(const std::string& s, int) override { return s; }
-  void barrier() override {}
-  std::vector<std::int64_t> alltoall(const std::vector<std::int64_t>& c) override { return c; }
-  void begin_exchange(std::span<const Message>, std::span<const Message>) override {}
-  void finish_exchange() override {}
-
- private:
-  int p_;
-};
 
 template <int D>
 struct Cloud {
@@ -66,7 +44,7 @@ Cloud<D> dam_break_cloud(const std::array<std::int64_t, D>& dims, int per_cell) 
 template <int D>
 void check_tiling_and_balance(const std::array<std::int64_t, D>& dims, int P, double max_ratio) {
   const Cloud<D> c = dam_break_cloud<D>(dims, 3);
-  AllInOne comm(P);
+  AllInOneCommunicator comm(P);
   const auto part = Partition<D>::build(comm, dims, c.cells, c.weights);
   ASSERT_EQ(part.ranks(), P);
   std::int64_t volume = 1;
@@ -112,14 +90,14 @@ TEST(Partition, BoxesTileTheGridAndShareTheWeight3D) {
 }
 
 TEST(Partition, EmptyGridIsCutGeometrically) {
-  AllInOne comm(4);
+  AllInOneCommunicator comm(4);
   const std::array<std::int64_t, 2> dims{40, 40};
   const auto part = Partition<2>::build(comm, dims, {}, {});
   for (int r = 0; r < 4; ++r) EXPECT_EQ(part.box(r).volume(), 400) << r;
 }
 
 TEST(Partition, TooFewCellsForTheRanksIsRefused) {
-  AllInOne comm(5);
+  AllInOneCommunicator comm(5);
   const std::array<std::int64_t, 2> dims{2, 2};
   EXPECT_THROW(Partition<2>::build(comm, dims, {}, {}), std::invalid_argument);
 }
