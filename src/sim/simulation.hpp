@@ -57,6 +57,9 @@ class Integrator {
   virtual void initialize(Simulation<D>& sim) = 0;
   // Advances the simulation by one step of length dt (chosen by the simulation's dt control).
   virtual StepReport step(Simulation<D>& sim) = 0;
+  // True when step() follows core/team.hpp's rules (shared state written only in team_single or by the
+  // loop helpers), so the simulation may run it inside one parallel region (issue 19: no fork per loop).
+  virtual bool one_region_step() const { return false; }
   // Scalar state later steps depend on beyond the registered particle fields (e.g. a dt controller's
   // memory, a halving schedule), saved in checkpoints so a restarted run is bitwise identical.
   virtual nlohmann::json save_state() const { return nlohmann::json::object(); }
@@ -128,7 +131,11 @@ class Simulation {
   bool shifting_enabled() const { return rates_->shifting_enabled(); }
   // dt for the next step from the scene's fixed dt or CFL rule, given the last accelerations.
   double choose_dt() const;
-  void set_dt(double dt) { dt_ = dt; }
+  void set_dt(double dt) {
+    team_single([&] { dt_ = dt; });  // every thread of a step region calls it
+  }
+  // Whether the next step runs in one OpenMP parallel region (core/team.hpp, sim/step_region.hpp).
+  bool steps_in_one_region() const;
   // Positions and velocities of moving boundary bodies at time t (no-op when no body moves).
   void move_boundaries(double t);
   double cfl_dt() const;  // the CFL limit on the current state (for `info` and reports)
@@ -210,6 +217,7 @@ class Simulation {
   double time_ = 0, dt_ = 0;
   long step_ = 0;
   StepReport report_;
+  bool one_region_ok_ = false;  // the step may run in one parallel region (below kOneRegionMax particles)
   std::shared_ptr<parallel::Communicator> comm_;  // one rank: a SerialCommunicator
   std::unique_ptr<parallel::Domain<D>> domain_;   // null in one process
 };
