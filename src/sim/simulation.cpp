@@ -441,14 +441,24 @@ bool Simulation<D>::steps_in_one_region() const {
 
 template <int D>
 const StepReport& Simulation<D>::advance() {
+  return advance(std::function<void()>());
+}
+
+template <int D>
+const StepReport& Simulation<D>::advance(const std::function<void()>& after_step) {
   if (motion_->active()) move_boundaries(time_);  // walls at t_k for the forces of this step
   rates_->set_time(time_);  // gravity ramp, damping window
   if (domain_) domain_->step_begin();
+  // Shepard re-initialisation changes the densities after the step: the check then runs after it
+  const bool reinit = scene_.shepard_reinit_every > 0 && (step_ + 1) % scene_.shepard_reinit_every == 0;
+  bool checked = false;
   if (steps_in_one_region()) {
     run_team([&] {  // one fork/join for the whole step (core/team.hpp)
       const StepReport r = integrator_->step(*this);
       team_single([&] { report_ = r; });
+      if (after_step && !reinit) after_step();
     });
+    checked = !reinit;
   } else {
     report_ = integrator_->step(*this);
   }
@@ -457,6 +467,7 @@ const StepReport& Simulation<D>::advance() {
   // fixed dt: t = t0 + k dt exactly as two runs with the same dt compute it (frames match by time)
   time_ += dt_;
   if (scene_.shepard_reinit_every > 0 && step_ % scene_.shepard_reinit_every == 0) reinitialise_density();
+  if (after_step && !checked) after_step();
   return report_;
 }
 

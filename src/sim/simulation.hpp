@@ -1,6 +1,7 @@
 #pragma once
 // A scene resolved into one self-contained value: particle store, neighbour grid, the compiled physics
 // passes and the integrator. Nothing global: several simulations can live in one process.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -101,6 +102,10 @@ class Simulation {
 
   // One step of the integrator; updates time, step and the step report.
   const StepReport& advance();
+  // The same, then after_step() on the new state: inside the step's parallel region when the step runs in
+  // one (so a per-particle check costs no fork/join of its own; it must follow core/team.hpp's rules), else
+  // right after. Skipped into the region only when nothing else changes the state after the step.
+  const StepReport& advance(const std::function<void()>& after_step);
   const StepReport& last_report() const { return report_; }
 
   // --- services for integrators -----------------------------------------------------------------
