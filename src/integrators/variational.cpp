@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/team.hpp"
 #include "physics/pair_loop.hpp"
 #include "physics/passes.hpp"
 #include "parallel/communicator.hpp"
@@ -140,14 +141,17 @@ Real VariationalIntegrator<D>::make_midpoint(Simulation<D>& sim, std::span<const
   {
     const std::int32_t* kind = f.kind.data.data();
     const Vec<D>* vv = v.data();
-    const long nn = long(n);
-#pragma omp parallel for schedule(static) reduction(max : vmax)
-    for (long i = 0; i < nn; ++i)
-      if (kind[i] == 0) vmax = std::max(vmax, vv[i].squaredNorm());
+    vmax = Real(team_max2(long(n), [&](long i, double& m, double&) {
+                  if (kind[i] == 0) m = std::max(m, double(vv[i].squaredNorm()));
+                }).first);
   }
   vmax = Real(sim.global_max(double(vmax)));  // every rank widens the skin together
   const Real shift = std::abs(s) * std::sqrt(vmax);
-  if (!std::isfinite(shift) || !ensure_skin(sim, shift)) return -1;
+  if (!std::isfinite(shift)) return -1;
+  if (Real(2) * shift > sim.skin()) {  // the grid must widen: re-sorts (once per team, core/team.hpp)
+    team_single([&] { skin_ok_ = ensure_skin(sim, shift); });
+    if (!skin_ok_) return -1;
+  }
   Vec<D>* m = mid_->data.data();
   const Vec<D>* x = f.x.data.data();
   const std::int32_t* kind = f.kind.data.data();
@@ -162,7 +166,7 @@ void VariationalIntegrator<D>::eval_midpoint(Simulation<D>& sim, std::span<const
   auto& f = sim.fields();
   const std::size_t n = sim.size();
   const auto& grid = sim.grid();
-  if (on_evaluation) on_evaluation(grid, mid_->data);
+  if (on_evaluation) team_single([&] { on_evaluation(grid, mid_->data); });
   Real* rho1 = rho1_->data.data();
   Real* p1 = p1_->data.data();
   const Real* rho = f.rho.data.data();
@@ -188,7 +192,7 @@ void VariationalIntegrator<D>::compute_gamma(Simulation<D>& sim) {
   if (!has_wall_) return;
   const auto view = sim.current_view();
   sim.refresh_halo(view);  // distributed runs: ghosts at q_k
-  if (on_evaluation) on_evaluation(sim.grid(), sim.fields().x.data);
+  if (on_evaluation) team_single([&] { on_evaluation(sim.grid(), sim.fields().x.data); });
   WallOnlyPass<D> pass{*wall_, view, gamma_->data.data(), sim.rates().support()};
   if (!physics::simd::vector_sweep<D>(isa_, sim.grid(), pass))
     for_each_particle_pairs<D>(sim.grid(), view.x, sim.rates().support(), pass);  // Gamma_k, eq. (58)
@@ -198,13 +202,21 @@ template <int D>
 void VariationalIntegrator<D>::rebuild_previous(Simulation<D>& sim, double dt_old, double dt_new) {
   auto& f = sim.fields();
   if (make_midpoint(sim, f.v.data, Real(-(1 - alpha_) * dt_new)) < 0)  // (1-alpha) q_{k-1} + alpha q_k
-    throw NumericalError("variational: at t = " + std::to_string(sim.time()) +
-                         " s the previous interval's midpoint moves particles farther than the neighbour grid "
-                         "can cover (dt " + std::to_string(dt_new) + " s too large)");
+    team_single([&] {
+      throw NumericalError("variational: at t = " + std::to_string(sim.time()) +
+                           " s the previous interval's midpoint moves particles farther than the neighbour grid "
+                           "can cover (dt " + std::to_string(dt_new) + " s too large)");
+    });
   eval_midpoint(sim, f.v.data, Real((1 - alpha_) * (dt_old - dt_new)), a2_->data.data());
-  std::copy(rho1_->data.begin(), rho1_->data.end(), f.rho.data.begin());
-  std::copy(p1_->data.begin(), p1_->data.end(), f.p.data.begin());
-  predictor_ready_ = false;  // a2 now belongs to an interval of length dt_new; a2_prev does not
+  const Real* rho1 = rho1_->data.data();
+  const Real* p1 = p1_->data.data();
+  Real* rho = f.rho.data.data();
+  Real* p = f.p.data.data();
+  for_each_particle(rho1_->data.size(), [&](std::size_t i) {  // ghost slots included
+    rho[i] = rho1[i];
+    p[i] = p1[i];
+  });
+  team_single([&] { predictor_ready_ = false; });  // a2 now belongs to an interval of length dt_new; a2_prev does not
 }
 
 template <int D>
@@ -230,7 +242,7 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
   auto& f = sim.fields();
   const std::size_t n = sim.size();
   rep = {};
-  residuals_.clear();
+  team_single([&] { residuals_.clear(); });
   if (explicit_) {  // alpha = 0, summation, no viscosity: a1 at q_k does not depend on q_{k+1}
     rep.iterations = 1;
     if (apply_F(sim, dt, f.v.data, vnew_->data.data())) return true;
@@ -269,14 +281,13 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
       const std::int32_t* kind = f.kind.data.data();
       const Vec<D>* vn = vnew_->data.data();
       const Vec<D>* vo = vit_->data.data();
-      const long nn = long(n);
-#pragma omp parallel for schedule(static) reduction(max : r2)
-      for (long i = 0; i < nn; ++i)
-        if (kind[i] == 0) r2 = std::max(r2, double((vn[i] - vo[i]).squaredNorm()));
+      r2 = team_max2(long(n), [&](long i, double& m, double&) {
+             if (kind[i] == 0) m = std::max(m, double((vn[i] - vo[i]).squaredNorm()));
+           }).first;
     }
     r2 = sim.global_max(r2);  // the convergence test over every rank's particles
     const double r = double(dt) * std::sqrt(r2);  // max_i |q_{k+1;j} - q_{k+1;j-1}|
-    residuals_.push_back(r);
+    team_single([&] { residuals_.push_back(r); });  // every thread has the same r
     const double c = (j > 1 && prev > 0) ? r / prev : 0.0;
     rep.iterations = j;
     rep.residual = r;
@@ -289,7 +300,7 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
       if (diverging >= kDivergenceWindow) break;
     }
     prev = r;
-    vit_->data.swap(vnew_->data);  // no copy, no allocation
+    team_single([&] { vit_->data.swap(vnew_->data); });  // no copy, no allocation
   }
   std::ostringstream o;
   o.precision(3);
@@ -320,24 +331,29 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
   while (!solve(sim, Real(dt), rep, history)) {
     const std::string where = "step " + std::to_string(sim.step() + 1) + " (t = " + std::to_string(sim.time()) +
                               " s -> " + std::to_string(sim.time() + dt) + " s): ";
-    if (!halve_on_failure_ || halvings_ >= kMaxHalvings)
-      throw NumericalError(where + history +
-                           (halve_on_failure_ ? "; dt already halved " + std::to_string(kMaxHalvings) + " times"
-                                              : std::string("")) +
-                           ". The state is left at the last accepted step (t = " + std::to_string(sim.time()) +
-                           " s); integrator.fixed_point.on_failure = \"halve_dt\" retries with smaller steps");
-    // redo the step with dt / 2: rho_{k-1,k} and a2 rebuilt for q_{k-1} = q_k - (dt/2) v_{k-1/2}
-    ++halvings_;
-    steps_since_change_ = 0;
     const double dt_new = dt / 2;
-    if (sim.comm().root())  // every rank takes the same decision: one message
-      std::fprintf(stderr, "varsph: variational: %s%s; halving dt to %.4g s\n", where.c_str(), history.c_str(), dt_new);
+    team_single([&] {  // inside a step's parallel region: once (core/team.hpp)
+      if (!halve_on_failure_ || halvings_ >= kMaxHalvings)
+        throw NumericalError(where + history +
+                             (halve_on_failure_ ? "; dt already halved " + std::to_string(kMaxHalvings) + " times"
+                                                : std::string("")) +
+                             ". The state is left at the last accepted step (t = " + std::to_string(sim.time()) +
+                             " s); integrator.fixed_point.on_failure = \"halve_dt\" retries with smaller steps");
+      // redo the step with dt / 2: rho_{k-1,k} and a2 rebuilt for q_{k-1} = q_k - (dt/2) v_{k-1/2}
+      ++halvings_;
+      steps_since_change_ = 0;
+      if (sim.comm().root())  // every rank takes the same decision: one message
+        std::fprintf(stderr, "varsph: variational: %s%s; halving dt to %.4g s\n", where.c_str(), history.c_str(),
+                     dt_new);
+    });
     rebuild_previous(sim, dt, dt_new);
     dt = dt_new;
-    dt_prev_ = dt;
+    team_single([&] { dt_prev_ = dt; });
     sim.set_dt(dt);
   }
-  if (rep.contraction > 0) last_bound_ = dt / std::sqrt(rep.contraction);  // eq. (54) with M1 ~ c
+  team_single([&] {
+    if (rep.contraction > 0) last_bound_ = dt / std::sqrt(rep.contraction);  // eq. (54) with M1 ~ c
+  });
   rep.dt_bound = last_bound_;
   // accept: v_{k+1/2}, q_{k+1}; a1 (at the accepted iterate) becomes the next step's a2
   {
@@ -366,16 +382,20 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
       x[i] += h * v[i];  // q_{k+1} = q_k + dt v_{k+1/2}
     });
   }
-  dt_prev_ = dt;
-  predictor_ready_ = true;  // a2_prev and a2: consecutive intervals of length dt
+  team_single([&] {
+    dt_prev_ = dt;
+    predictor_ready_ = true;  // a2_prev and a2: consecutive intervals of length dt
+  });
   sim.sort_and_bin();
-  if (halvings_ > 0 && ++steps_since_change_ >= kRegrowAfter) {
-    --halvings_;  // the next step sees dt != dt_prev_ and rebuilds the previous interval
-    steps_since_change_ = 0;
-    const double next_dt = sim.choose_dt() / double(1L << halvings_);  // collective (CFL maxima)
-    if (sim.comm().root())
-      std::fprintf(stderr, "varsph: variational: growing dt back to %.4g s at t = %g s\n", next_dt, sim.time() + dt);
-  }
+  team_single([&] {  // once (core/team.hpp); choose_dt runs serially here
+    if (halvings_ > 0 && ++steps_since_change_ >= kRegrowAfter) {
+      --halvings_;  // the next step sees dt != dt_prev_ and rebuilds the previous interval
+      steps_since_change_ = 0;
+      const double next_dt = sim.choose_dt() / double(1L << halvings_);  // collective (CFL maxima)
+      if (sim.comm().root())
+        std::fprintf(stderr, "varsph: variational: growing dt back to %.4g s at t = %g s\n", next_dt, sim.time() + dt);
+    }
+  });
   return rep;
 }
 

@@ -36,6 +36,7 @@ class VariationalIntegrator final : public Integrator<D> {
   double dt_bound() const override { return last_bound_; }
   void initialize(Simulation<D>& sim) override;
   StepReport step(Simulation<D>& sim) override;
+  bool one_region_step() const override { return true; }  // core/team.hpp's rules hold in step()
   nlohmann::json save_state() const override;
   void restore_state(const nlohmann::json& j) override;
 
@@ -101,6 +102,7 @@ class VariationalIntegrator final : public Integrator<D> {
   int halvings_ = 0;        // current dt = scene dt / 2^halvings
   long steps_since_change_ = 0;
   double last_bound_ = 0;
+  bool skin_ok_ = true;           // ensure_skin's answer, shared by a step region's threads
   bool predictor_ready_ = false;  // a2_prev_ and a2_ belong to two consecutive intervals of the same dt
   bool extrapolate_ = true;
 

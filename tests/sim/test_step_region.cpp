@@ -168,6 +168,17 @@ TEST(StepRegion, OneRegionPerStepGivesBitwiseTheSameRun) {
   expect_same_run("dam_break_2d_paper.json",
                   {"physics.shifting={}", "physics.density_diffusion={\"type\": \"antuono\", \"delta\": 0.1}"}, 40,
                   "paper dam break with shifting and Antuono's delta-SPH");
+  // the paper's integrator: fixed-point iterations (shared residual history, iterate swap), CFL dt, the
+  // predictor; then dt halvings and regrowth forced by a 2-iteration limit; summation density; alpha = 0
+  expect_same_run("dam_break_2d_paper.json", {"integrator={\"type\": \"variational\", \"alpha\": 0.5, \"cfl\": 0.2}"}, 40,
+                  "variational alpha 0.5, CFL dt");
+  expect_same_run("dam_break_2d_paper.json",
+                  {"integrator={\"type\": \"variational\", \"alpha\": 0.5, \"dt\": 2e-4, \"fixed_point\": "
+                   "{\"max_iterations\": 3, \"on_failure\": \"halve_dt\"}}"},
+                  120, "variational alpha 0.5, dt halved and grown back");
+  expect_same_run("dam_break_2d_paper.json",
+                  {"physics.density=\"summation\"", "integrator={\"type\": \"variational\", \"alpha\": 0.0, \"dt\": 1e-4}"},
+                  30, "variational alpha 0, summation density");
   expect_same_run("sloshing_tank_3d.json", {"particles.spacing=0.06"}, 20, "3D sloshing tank (moving walls)");
 }
 
