@@ -49,6 +49,9 @@ class RatesImpl final : public Rates<D> {
     add_optional_accelerations(g, s, a);
   }
   bool fused() const override { return fused_fn_ != nullptr; }
+  bool splits_by_blocks() const override {  // see Rates; the damping window depends on the time
+    return !damping_on_ && p_.diffusion != DensityDiffusion::Antuono && p_.boundary != BoundaryModel::Mdbc;
+  }
   const char* simd() const override { return simd::to_string(vector_covered_ ? isa_ : simd::Isa::Scalar); }
   // artificial stress and damping, each its own loop and only when named
   void add_optional_accelerations(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) const {
