@@ -575,6 +575,7 @@ class Runner {
       // overlap of the halo refresh with the interior sweep (docs/parallel.md "Overlap")
       p["overlapped_refreshes"] = st.overlapped_refreshes;
       p["max_refresh_wait_seconds"] = comm_->max(st.refresh_wait_seconds);
+      p["mean_refresh_wait_seconds"] = comm_->sum(st.refresh_wait_seconds) / comm_->size();
       p["max_rebin_wait_seconds"] = comm_->max(st.rebin_wait_seconds);
       p["interior_particles"] = std::int64_t(comm_->sum(double(st.interior_particles)));
     }
