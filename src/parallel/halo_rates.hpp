@@ -63,19 +63,20 @@ class HaloRates final : public physics::Rates<D> {
   static constexpr int kAll = Positions | Velocities | State;
 
   void density_rate(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, Real* drho) const override {
-    split(g, s, kAll, [&](const NeighborGrid<D>& part) { inner_->density_rate(part, s, drho); });
+    split(g, s, kAll, [&](const NeighborGrid<D>& part, const View& v) { inner_->density_rate(part, v, drho); });
   }
   void summation_density(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, Real* rho) const override {
     // masses and kinds do not change between rebins
-    split(g, s, Positions, [&](const NeighborGrid<D>& part) { inner_->summation_density(part, s, rho); });
+    split(g, s, Positions, [&](const NeighborGrid<D>& part, const View& v) { inner_->summation_density(part, v, rho); });
   }
   void acceleration(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, Vec<D>* a) const override {
-    split(g, s, kAll, [&](const NeighborGrid<D>& part) { inner_->acceleration(part, s, a); });
+    split(g, s, kAll, [&](const NeighborGrid<D>& part, const View& v) { inner_->acceleration(part, v, a); });
   }
   void density_rate_and_acceleration(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, Real* drho,
                                      Vec<D>* a) const override {
-    split(g, s, kAll,
-          [&](const NeighborGrid<D>& part) { inner_->density_rate_and_acceleration(part, s, drho, a); });
+    split(g, s, kAll, [&](const NeighborGrid<D>& part, const View& v) {
+      inner_->density_rate_and_acceleration(part, v, drho, a);
+    });
   }
   bool fused() const override { return inner_->fused(); }
   const char* simd() const override { return inner_->simd(); }
@@ -92,12 +93,14 @@ class HaloRates final : public physics::Rates<D> {
                     Real* p, Real* rho, Vec<D>* wall_v) const override {
     // the wall's own geometry (normal, distance, acceleration) is read for owned walls only
     bool done = false;
-    split(g, s, kAll, [&](const NeighborGrid<D>& part) { done = inner_->update_walls(part, s, geo, p, rho, wall_v); });
+    split(g, s, kAll, [&](const NeighborGrid<D>& part, const View& v) {
+      done = inner_->update_walls(part, v, geo, p, rho, wall_v);
+    });
     return done;
   }
   bool xsph_enabled() const override { return inner_->xsph_enabled(); }
   void xsph(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, Vec<D>* out) const override {
-    split(g, s, kAll, [&](const NeighborGrid<D>& part) { inner_->xsph(part, s, out); });
+    split(g, s, kAll, [&](const NeighborGrid<D>& part, const View& v) { inner_->xsph(part, v, out); });
   }
   bool shifting_enabled() const override { return inner_->shifting_enabled(); }
   void shifting(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, Real dt, Vec<D>* out) const override {
@@ -106,27 +109,36 @@ class HaloRates final : public physics::Rates<D> {
   }
 
  private:
+  using View = physics::ParticleView<D>;
+  // The view's first n particles: what the interior blocks read (their stencils hold owned particles
+  // only). Per-particle work of the pass (p / rho^2, volumes) then skips the ghosts, and the neighbour
+  // list cache's key (positions and kinds of the view) does not see the ghosts' values, which the refresh
+  // in flight is about to replace.
+  static View first(const View& s, std::size_t n) {
+    auto cut = [n](auto span) { return span.empty() ? span : span.first(n); };
+    return {cut(s.x), cut(s.v), cut(s.rho), cut(s.p), cut(s.mass), cut(s.kind), cut(s.wall_v), cut(s.normal)};
+  }
   // refresh + run(g), or, where the pass allows it, post + run(interior) + wait + run(boundary)
   template <class Run>
-  void split(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, int what, Run&& run) const {
+  void split(const NeighborGrid<D>& g, const View& s, int what, Run&& run) const {
     const BlockSplit<D>* parts = domain_.split_for(g);
     if (!parts || !inner_->splits_by_blocks()) {
       refresh(s, what);
-      run(g);
+      run(g, s);
       return;
     }
     arrays_.clear();
     collect_view(s, what, arrays_);
     domain_.begin_refresh(arrays_);
     try {
-      run(parts->part(0));
+      run(parts->part(0), first(s, domain_.owned()));
     } catch (...) {
       domain_.finish_refresh();  // no request left pending
       throw;
     }
     domain_.finish_refresh();
     domain_.count_overlapped_refresh();
-    run(parts->part(1));
+    run(parts->part(1), s);
   }
 
   std::unique_ptr<physics::Rates<D>> inner_;

@@ -145,7 +145,18 @@ class RatesImpl final : public Rates<D> {
   // the vectorised sweep where it covers the pass (physics/simd/), else the scalar one (the reference)
   template <class Pass>
   void sweep(const NeighborGrid<D>& g, const ParticleView<D>& s, Pass& pass) const {
-    if (!simd::vector_sweep<D>(isa_, g, pass, &lists_)) for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+    if (!simd::vector_sweep<D>(isa_, g, pass, lists_for(g))) for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+  }
+  // One list cache per grid the passes meet, for the last two grids: a distributed run sweeps its interior
+  // and its boundary blocks as two grids in turn (parallel/block_split.hpp), which one cache keyed by
+  // the grid would never reuse. One process has one grid: lists_[0].
+  simd::ListCache* lists_for(const NeighborGrid<D>& g) const {
+    for (int k = 0; k < 2; ++k)
+      if (list_grid_[k] == &g) return &lists_[k];
+    const int k = list_next_;
+    list_next_ ^= 1;
+    list_grid_[k] = &g;
+    return &lists_[k];
   }
   template <class Visc, BoundaryModel M>
   static void run_acc(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) {
@@ -316,7 +327,9 @@ class RatesImpl final : public Rates<D> {
 
   PhysicsParams<D> p_;
   simd::Isa isa_ = simd::choose_isa();  // VARSPH_SIMD or the best this build and CPU have
-  mutable simd::ListCache lists_;         // neighbour lists kept between passes over one configuration
+  mutable simd::ListCache lists_[2];      // neighbour lists kept between passes over one configuration
+  mutable const void* list_grid_[2] = {nullptr, nullptr};  // the grid each cache serves (lists_for)
+  mutable int list_next_ = 0;
   Kernel W_;
   RepulsiveWall wall_;
   SoftRepulsiveWall soft_;
