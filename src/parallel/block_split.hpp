@@ -6,6 +6,8 @@
 // sum depends on its block's ranges only). Distributed runs pick the blocks whose stencil holds no ghost
 // (interior) to sweep them while the halo refresh is in flight (halo_rates.hpp); the fast test
 // test_split_sweep checks the equality bit for bit on one process with any predicate.
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -21,18 +23,33 @@ class BlockSplit {
   void build(const NeighborGrid<D>& grid, Pick&& pick) {
     source_ = &grid;
     source_generation_ = grid.generation();
-    for (int k = 0; k < 2; ++k) {
-      blocks_[k].clear();
-      ranges_[k].clear();
+    // two passes (classify and count, then copy) so that the copy is plain stores into sized arrays
+    const auto& blocks = grid.blocks();
+    const NeighborRange* ranges = grid.ranges().data();
+    side_.resize(blocks.size());
+    std::size_t nb[2] = {0, 0}, nr[2] = {0, 0};
+    for (std::size_t q = 0; q < blocks.size(); ++q) {
+      const int k = pick(blocks[q]) ? 0 : 1;
+      side_[q] = std::uint8_t(k);
+      ++nb[k];
+      nr[k] += blocks[q].nbr_end - blocks[q].nbr_begin;
     }
-    const auto& ranges = grid.ranges();
-    for (const CellBlock& b : grid.blocks()) {
-      const int k = pick(b) ? 0 : 1;
-      CellBlock c = b;
-      c.nbr_begin = std::uint32_t(ranges_[k].size());
-      ranges_[k].insert(ranges_[k].end(), ranges.begin() + b.nbr_begin, ranges.begin() + b.nbr_end);
-      c.nbr_end = std::uint32_t(ranges_[k].size());
-      blocks_[k].push_back(c);
+    CellBlock* bo[2];
+    NeighborRange* ro[2];
+    for (int k = 0; k < 2; ++k) {
+      blocks_[k].resize(nb[k]);
+      ranges_[k].resize(nr[k]);
+      bo[k] = blocks_[k].data();
+      ro[k] = ranges_[k].data();
+    }
+    std::uint32_t used[2] = {0, 0};
+    for (std::size_t q = 0; q < blocks.size(); ++q) {
+      const int k = side_[q];
+      const CellBlock& b = blocks[q];
+      const std::uint32_t m = b.nbr_end - b.nbr_begin;
+      *bo[k]++ = {b.begin, b.end, used[k], used[k] + m};
+      std::copy(ranges + b.nbr_begin, ranges + b.nbr_end, ro[k] + used[k]);
+      used[k] += m;
     }
     const std::array<std::int64_t, D> none{};
     for (int k = 0; k < 2; ++k) {
@@ -58,6 +75,7 @@ class BlockSplit {
   NeighborGrid<D> part_[2];
   std::vector<CellBlock> blocks_[2];
   std::vector<NeighborRange> ranges_[2];
+  std::vector<std::uint8_t> side_;  // part of each block of the source grid
   std::vector<std::array<std::uint32_t, 2>> window_;
   std::size_t interior_particles_ = 0;
 };
