@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/first_touch.hpp"
+#include "core/team.hpp"
 #include "kernels/tabulated.hpp"
 #include "physics/pair_loop.hpp"
 #include "physics/passes.hpp"
@@ -150,13 +151,19 @@ class RatesImpl final : public Rates<D> {
   // One list cache per grid the passes meet, for the last two grids: a distributed run sweeps its interior
   // and its boundary blocks as two grids in turn (parallel/block_split.hpp), which one cache keyed by
   // the grid would never reuse. One process has one grid: lists_[0].
+  // Chosen once per team (core/team.hpp): every thread of a step's region then sweeps with the same cache.
   simd::ListCache* lists_for(const NeighborGrid<D>& g) const {
-    for (int k = 0; k < 2; ++k)
-      if (list_grid_[k] == &g) return &lists_[k];
-    const int k = list_next_;
-    list_next_ ^= 1;
-    list_grid_[k] = &g;
-    return &lists_[k];
+    team_single([&] {
+      for (int k = 0; k < 2; ++k)
+        if (list_grid_[k] == &g) {
+          list_pick_ = k;
+          return;
+        }
+      list_pick_ = list_next_;
+      list_next_ ^= 1;
+      list_grid_[list_pick_] = &g;
+    });
+    return &lists_[list_pick_];
   }
   template <class Visc, BoundaryModel M>
   static void run_acc(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) {
@@ -329,7 +336,7 @@ class RatesImpl final : public Rates<D> {
   simd::Isa isa_ = simd::choose_isa();  // VARSPH_SIMD or the best this build and CPU have
   mutable simd::ListCache lists_[2];      // neighbour lists kept between passes over one configuration
   mutable const void* list_grid_[2] = {nullptr, nullptr};  // the grid each cache serves (lists_for)
-  mutable int list_next_ = 0;
+  mutable int list_next_ = 0, list_pick_ = 0;
   Kernel W_;
   RepulsiveWall wall_;
   SoftRepulsiveWall soft_;
