@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
-"""Neighbour lists kept between passes (src/physics/simd/list_cache.hpp) against lists rebuilt in every pass:
-interleaved A/B runs of bench_step (VARSPH_NEIGHBOUR_LISTS=rebuild | reuse), best of the rounds, ns per fluid
-particle-step and the ratio, with the load average (wall clock: noisy on a shared machine).
+"""Interleaved A/B runs of bench_step with an environment switch, best of the rounds, ns per fluid
+particle-step and the ratio A/B, with the load average (wall clock: noisy on a shared machine). By default
+the neighbour lists kept between passes (src/physics/simd/list_cache.hpp; VARSPH_NEIGHBOUR_LISTS=rebuild |
+reuse); `--switch VARSPH_STEP_REGION=per_loop,one` compares one parallel region per loop with one per step
+(src/core/team.hpp).
 
   /usr/bin/python3 bench/neighbour_lists_ab.py [--cases paper,variational,dsph] [--threads 1,2] [--rounds 5]
-      [--bench build/release/bin/bench_step]
+      [--switch NAME=A,B] [--steps-scale S] [--bench build/release/bin/bench_step]
 """
 import argparse
 import os
@@ -26,22 +28,29 @@ def main():
     ap.add_argument("--cases", default="paper,variational,dsph")
     ap.add_argument("--threads", default="1,2")
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--switch", default="VARSPH_NEIGHBOUR_LISTS=rebuild,reuse")
+    ap.add_argument("--steps-scale", type=float, default=1.0, help="multiplies each case's step count")
     a = ap.parse_args()
+    var, values = a.switch.split("=", 1)
+    A, B = values.split(",")
     for case in a.cases.split(","):
         for thr in a.threads.split(","):
             best, loads = {}, []
             for _ in range(a.rounds):
-                for mode in ("rebuild", "reuse"):
+                for mode in (A, B):
                     loads.append(os.getloadavg()[0])
-                    env = dict(os.environ, VARSPH_NEIGHBOUR_LISTS=mode)
-                    p = subprocess.run([a.bench] + CASES[case] + ["--repeats", "1", "--threads", thr],
+                    env = dict(os.environ, **{var: mode})
+                    args = list(CASES[case])
+                    k = args.index("--steps") + 1
+                    args[k] = str(max(1, int(int(args[k]) * a.steps_scale)))
+                    p = subprocess.run([a.bench] + args + ["--repeats", "1", "--threads", thr],
                                        capture_output=True, text=True, env=env)
                     if p.returncode != 0:
                         raise SystemExit(f"bench_step exit {p.returncode}:\n{p.stdout}\n{p.stderr}")
                     row = [ln.split() for ln in p.stdout.splitlines() if ln.startswith("custom")][-1]
                     best[mode] = min(best.get(mode, float("inf")), float(row[5]))
-            print(f"{case:12s} threads {thr}: rebuild {best['rebuild']:8.1f} ns, reuse {best['reuse']:8.1f} ns per fluid "
-                  f"particle-step, ratio {best['rebuild'] / best['reuse']:.3f}  (load {min(loads):.2f}-{max(loads):.2f})",
+            print(f"{case:12s} threads {thr}: {A} {best[A]:8.1f} ns, {B} {best[B]:8.1f} ns per fluid "
+                  f"particle-step, ratio {best[A] / best[B]:.3f}  (load {min(loads):.2f}-{max(loads):.2f})",
                   flush=True)
 
 

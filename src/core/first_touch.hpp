@@ -11,10 +11,46 @@
 
 #include <omp.h>
 
+#include "core/team.hpp"
+
 namespace varsph {
+
+// The same inside a step's parallel region (core/team.hpp): every thread of the team calls it.
+template <class T>
+void first_touch_resize_in_team(std::vector<T>& v, std::size_t n) {
+  if (n <= v.capacity()) {
+    team_single([&] { v.resize(n); });
+    return;
+  }
+  std::vector<T> fresh;             // used on the thread that runs the single below
+  std::vector<T>* shared = nullptr;  // that vector, broadcast to the team
+  team_detail::TeamState* st = team_detail::tls_team;
+#pragma omp single copyprivate(shared)
+  {
+    try {
+      fresh.reserve(n);
+      shared = &fresh;
+    } catch (...) {
+      st->error = std::current_exception();
+    }
+  }
+  if (st->error) throw team_detail::Abort{};
+  std::byte* raw = reinterpret_cast<std::byte*>(shared->data());
+  const long nn = long(n), nt = omp_get_num_threads(), t = omp_get_thread_num();
+  const long q = nn / nt, r = nn % nt;  // the partition of `#pragma omp for schedule(static)`
+  const long lo = t * q + (t < r ? t : r), hi = lo + q + (t < r ? 1 : 0);
+  if (hi > lo) std::memset(raw + std::size_t(lo) * sizeof(T), 0, std::size_t(hi - lo) * sizeof(T));
+#pragma omp barrier
+  team_single([&] {
+    shared->insert(shared->end(), v.begin(), v.end());
+    shared->resize(n);
+    v.swap(*shared);
+  });  // its barrier keeps `fresh` (now the old storage) alive until every thread is past the swap
+}
 
 template <class T>
 void first_touch_resize(std::vector<T>& v, std::size_t n) {
+  if (in_team()) return first_touch_resize_in_team(v, n);
   if (n <= v.capacity() || omp_get_max_threads() == 1) {
     v.resize(n);
     return;

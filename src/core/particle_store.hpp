@@ -159,6 +159,10 @@ class ParticleStore {
     std::size_t bytes = 0;
     for (auto& f : fields_) bytes = std::max(bytes, f->bytes_per_particle() * size_);
     first_touch_resize(scratch_, bytes);  // grows once, then reused: no allocation per step
+    if (in_team()) {  // a step's region (core/team.hpp): the fields' loops are its worksharing loops
+      for (auto& f : fields_) f->permute(perm, scratch_);
+      return;
+    }
 #pragma omp parallel
     for (auto& f : fields_) f->permute(perm, scratch_);
   }

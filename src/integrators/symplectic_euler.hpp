@@ -18,6 +18,7 @@ class SymplecticEulerIntegrator final : public Integrator<D> {
   const char* name() const override { return "symplectic_euler"; }
   void initialize(Simulation<D>&) override {}
   StepReport step(Simulation<D>& sim) override;
+  bool one_region_step() const override { return true; }  // core/team.hpp's rules hold in step()
 };
 
 }  // namespace varsph

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/team.hpp"
 #include "sim/simulation.hpp"
 
 namespace varsph {
@@ -30,14 +31,12 @@ double effective_viscosity(const Simulation<D>& sim) {
 template <int D>
 CflLimits cfl_limits(const Simulation<D>& sim) {
   const auto& f = sim.fields();
-  double vmax = 0, amax = 0;
-  const long n = long(sim.size());
-#pragma omp parallel for schedule(static) reduction(max : vmax, amax)
-  for (long i = 0; i < n; ++i) {
-    if (f.kind[i] != 0) continue;
-    vmax = std::max(vmax, double(f.v[i].norm()));
-    amax = std::max(amax, double(f.a[i].norm()));
-  }
+  // maxima are exact in any order: the same dt for any thread count, in or out of a step region
+  const auto [vmax, amax] = team_max2(long(sim.size()), [&](long i, double& vm, double& am) {
+    if (f.kind[i] != 0) return;
+    vm = std::max(vm, double(f.v[i].norm()));
+    am = std::max(am, double(f.a[i].norm()));
+  });
   return cfl_limits(sim, sim.global_max(vmax), sim.global_max(amax));  // over every rank: the same dt
 }
 

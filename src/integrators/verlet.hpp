@@ -14,6 +14,7 @@ class VerletIntegrator final : public Integrator<D> {
   const char* name() const override { return "verlet"; }
   void initialize(Simulation<D>& sim) override;
   StepReport step(Simulation<D>& sim) override;
+  bool one_region_step() const override { return true; }  // core/team.hpp's rules hold in step()
 };
 
 // The one explicit alpha = 1 code path, shared by `verlet` and `variational` with alpha = 1.

@@ -23,8 +23,11 @@ StepReport VerletDsphIntegrator<D>::step(Simulation<D>& sim) {
   sim.rates().density_rate_and_acceleration(sim.grid(), sim.current_view(), f.drho.data.data(), f.a.data.data());
   sim.set_dt(sim.choose_dt());
   const Real dt = Real(sim.dt());
-  const bool euler = steps_since_euler_ < 0 || steps_since_euler_ + 1 >= euler_every_;
-  steps_since_euler_ = euler ? 0 : steps_since_euler_ + 1;
+  team_single([&] {  // once per step, also inside a step's parallel region (core/team.hpp)
+    euler_now_ = steps_since_euler_ < 0 || steps_since_euler_ + 1 >= euler_every_;
+    steps_since_euler_ = euler_now_ ? 0 : steps_since_euler_ + 1;
+  });
+  const bool euler = euler_now_;
   Vec<D>* x = f.x.data.data();
   Vec<D>* v = f.v.data.data();
   Real* rho = f.rho.data.data();

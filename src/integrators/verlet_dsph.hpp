@@ -20,6 +20,7 @@ class VerletDsphIntegrator final : public Integrator<D> {
   const char* name() const override { return "verlet_dsph"; }
   void initialize(Simulation<D>& sim) override;
   StepReport step(Simulation<D>& sim) override;
+  bool one_region_step() const override { return true; }  // core/team.hpp's rules hold in step()
   nlohmann::json save_state() const override { return {{"steps_since_euler", steps_since_euler_}}; }
   void restore_state(const nlohmann::json& j) override {
     if (j.contains("steps_since_euler")) steps_since_euler_ = j.at("steps_since_euler").get<long>();
@@ -28,6 +29,7 @@ class VerletDsphIntegrator final : public Integrator<D> {
  private:
   int euler_every_;
   long steps_since_euler_ = -1;  // -1: the next step is the first (Euler)
+  bool euler_now_ = true;        // this step's choice (set once per step, read by every thread)
   Field<Vec<D>>* v_prev_ = nullptr;
   Field<Real>* rho_prev_ = nullptr;
 };

@@ -1,6 +1,7 @@
 #include "neighbors/neighbor_grid.hpp"
 
 #include "core/first_touch.hpp"
+#include "core/team.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -136,10 +137,13 @@ Vec<D> NeighborGrid<D>::wrap_shift(const Vec<D>& x) const {
 
 template <int D>
 void NeighborGrid<D>::build(std::span<const Vec<D>> x, std::vector<std::uint32_t>& perm) {
-  local_ = false;
-  ++generation_;
-  if (opt_.hashed) build_hashed(x, perm);
-  else build_uniform(x, perm);
+  // inside a step's parallel region every thread calls this (core/team.hpp): shared state changes once
+  team_single([&] {
+    local_ = false;
+    ++generation_;
+    if (opt_.hashed) build_hashed(x, perm);  // serial
+  });
+  if (!opt_.hashed) build_uniform(x, perm);
 }
 
 // Serial stable counting sort of the cell keys; fills perm, count_ (end of every cell) and blocks_.
@@ -233,24 +237,27 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
   for (int a = 0; a < D; ++a) n_cells *= dims_[a];
   // cell keys in 4 bytes per particle, computed in parallel once (the histogram and the scatter read
   // them twice: recomputing the floor per axis there cost 7 % of a 2D step)
-  if (n_cells >= std::int64_t(std::numeric_limits<std::uint32_t>::max()))
-    throw std::invalid_argument("neighbour grid: " + std::to_string(n_cells) +
-                                " cells exceed a dense grid; use domain.neighbor_search = \"hash\"");
-  key_.clear();
-  key_.shrink_to_fit();
+  team_single([&] {
+    if (n_cells >= std::int64_t(std::numeric_limits<std::uint32_t>::max()))
+      throw std::invalid_argument("neighbour grid: " + std::to_string(n_cells) +
+                                  " cells exceed a dense grid; use domain.neighbor_search = \"hash\"");
+    key_.clear();
+    key_.shrink_to_fit();
+  });
   first_touch_resize(cell_key_, n);
-  const long nn = long(n);
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < nn; ++i) {
+  team_for(long(n), [&](long i) {
     const Coord c = coord_of(x[std::size_t(i)]);
     std::uint64_t k = 0;
     for (int a = D - 1; a >= 0; --a) k = k * std::uint64_t(dims_[a]) + std::uint64_t(c[a]);
     cell_key_[std::size_t(i)] = std::uint32_t(k);
-  }
+  });
   // stable counting sort by cell with one per-cell array: count_[c + 1] = particles in cell c, prefix sum
-  // (count_[c] = first slot of cell c), scatter with count_[c] as the cursor (count_[c] = end of cell c)
-  if (n < kParallelSortMin || omp_get_max_threads() == 1) sort_serial(n, n_cells, perm);
-  else sort_parallel(n, n_cells, perm);
+  // (count_[c] = first slot of cell c), scatter with count_[c] as the cursor (count_[c] = end of cell c).
+  // Inside a step's region it runs on one thread (the region is used for small cases, where it is serial).
+  team_single([&] {
+    if (n < kParallelSortMin || omp_get_max_threads() == 1) sort_serial(n, n_cells, perm);
+    else sort_parallel(n, n_cells, perm);
+  });
   // Neighbour ranges of every block: the stencil cells of one row (fixed offsets on the axes above x)
   // are consecutive cell keys, so their particles are one slice of the sorted order, read from the
   // cell ends in count_: (2m+1)^(D-1) ranges per block (split only where x wraps periodically), in
@@ -307,25 +314,25 @@ void NeighborGrid<D>::build_uniform(std::span<const Vec<D>> x, std::vector<std::
     if (have) emit(pending);
   };
   const long nblk = long(blocks_.size());
-#pragma omp parallel for schedule(static)
-  for (long q = 0; q < nblk; ++q) {
+  team_for(nblk, [&](long q) {
     std::uint32_t cnt = 0;
-    visit(blocks_[q], [&](const NeighborRange&) { ++cnt; });
-    blocks_[q].nbr_end = cnt;
-  }
-  const std::uint32_t total = parallel_exclusive_scan(
-      nblk, [&](long q) { return blocks_[std::size_t(q)].nbr_end; },
-      [&](long q, std::uint32_t at) {
-        CellBlock& b = blocks_[std::size_t(q)];
-        b.nbr_end += at;
-        b.nbr_begin = at;
-      });
-  first_touch_resize(ranges_, total);
-#pragma omp parallel for schedule(static)
-  for (long q = 0; q < nblk; ++q) {
-    std::uint32_t at = blocks_[q].nbr_begin;
-    visit(blocks_[q], [&](const NeighborRange& r) { ranges_[at++] = r; });
-  }
+    visit(blocks_[std::size_t(q)], [&](const NeighborRange&) { ++cnt; });
+    blocks_[std::size_t(q)].nbr_end = cnt;
+  });
+  team_single([&] {
+    n_ranges_ = parallel_exclusive_scan(
+        nblk, [&](long q) { return blocks_[std::size_t(q)].nbr_end; },
+        [&](long q, std::uint32_t at) {
+          CellBlock& b = blocks_[std::size_t(q)];
+          b.nbr_end += at;
+          b.nbr_begin = at;
+        });
+  });
+  first_touch_resize(ranges_, n_ranges_);
+  team_for(nblk, [&](long q) {
+    std::uint32_t at = blocks_[std::size_t(q)].nbr_begin;
+    visit(blocks_[std::size_t(q)], [&](const NeighborRange& r) { ranges_[at++] = r; });
+  });
 }
 
 template <int D>

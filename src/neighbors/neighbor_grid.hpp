@@ -110,6 +110,7 @@ class NeighborGrid {
   std::vector<std::uint32_t> cell_key_;  // uniform: cell per particle
   // uniform: per-cell counts, then (after the scatter) the end of every cell; hashed: per-bucket counts
   std::vector<std::uint32_t> count_;
+  std::uint32_t n_ranges_ = 0;  // neighbour ranges of the last uniform build (shared by a step's team)
   std::vector<Coord> coords_;
   std::vector<std::uint32_t> bucket_start_;  // hashed: bucket -> first block
   // distributed runs (set_topology): the cells this process sees; local_ false after a serial build()

@@ -7,6 +7,7 @@
 #include <span>
 
 #include "core/real.hpp"
+#include "core/team.hpp"
 #include "neighbors/neighbor_grid.hpp"
 
 namespace varsph {
@@ -17,10 +18,8 @@ void for_each_particle_pairs(const NeighborGrid<D>& grid, std::span<const Vec<D>
   const auto& blocks = grid.blocks();
   const auto& ranges = grid.ranges();
   const Real rc2 = support * support;
-  const long n_blocks = long(blocks.size());
-#pragma omp parallel for schedule(dynamic, 4)
-  for (long b = 0; b < n_blocks; ++b) {
-    const CellBlock blk = blocks[b];
+  team_for_dynamic(long(blocks.size()), [&](long b) {
+    const CellBlock blk = blocks[std::size_t(b)];
     for (std::uint32_t i = blk.begin; i < blk.end; ++i) {
       if (!pass.active(i)) continue;
       auto acc = pass.begin(i);
@@ -36,15 +35,13 @@ void for_each_particle_pairs(const NeighborGrid<D>& grid, std::span<const Vec<D>
       }
       pass.end(i, acc);
     }
-  }
+  });
 }
 
-// Parallel loop over particles, each writing its own slot.
+// Parallel loop over particles, each writing its own slot (a worksharing loop inside a step's region).
 template <class F>
 void for_each_particle(std::size_t n, F&& f) {
-  const long nn = long(n);
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < nn; ++i) f(std::size_t(i));
+  team_for(long(n), [&](long i) { f(std::size_t(i)); });
 }
 
 }  // namespace varsph

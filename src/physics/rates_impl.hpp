@@ -190,7 +190,7 @@ class RatesImpl final : public Rates<D> {
   Diff diffusion(const NeighborGrid<D>& g, const ParticleView<D>& s) const {
     if constexpr (std::is_same_v<Diff, AntuonoDiffusion<D>>) {
       Diff d(p_.diffusion_delta, p_.h, p_.c0);
-      grad_rho_.resize(s.size());
+      first_touch_resize(grad_rho_, s.size());  // inside a step region: resized once (core/team.hpp)
       RenormalisedDensityGradientPass<D, Kernel> pass{W_, s, volume_.data(), grad_rho_.data()};
       for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
       d.grad = grad_rho_.data();

@@ -1,5 +1,7 @@
 #include "sim/health.hpp"
 
+#include "core/team.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -167,16 +169,18 @@ void HealthMonitor<D>::record(const Simulation<D>& sim, std::size_t i, RemovalRu
 }
 
 template <int D>
-std::string HealthMonitor<D>::after_step(Simulation<D>& sim) {
-  if (!started_) start(sim);
-  last_removed_.clear();
+void HealthMonitor<D>::flag_pass(const Simulation<D>& sim) {
   const auto& f = sim.fields();
   const std::size_t n = sim.size();
-  if (flag_.size() < n) flag_.resize(n);  // grows once; particles are only ever removed
+  const long nb = long((n + kBlock - 1) / kBlock);
+  team_single([&] {
+    if (flag_.size() < n) flag_.resize(n);  // grows once; particles are only ever removed
+    block_part_.resize(std::size_t(nb));    // idem
+  });
   std::uint8_t* flag = flag_.data();
+  BlockFlags* part = block_part_.data();
   const double rho_lo = rho0_ * (1.0 - spec_.max_density_error), rho_hi = rho0_ * (1.0 + spec_.max_density_error);
   const double v2_max = (spec_.max_mach * c0_) * (spec_.max_mach * c0_);
-  const long nb = long((n + kBlock - 1) / kBlock);
   // domain bounds per axis; periodic axes never flag
   std::array<double, D> lo, hi;
   for (int a = 0; a < D; ++a) {
@@ -190,51 +194,64 @@ std::string HealthMonitor<D>::after_step(Simulation<D>& sim) {
   const Vec<D> g = sim.params().gravity;
   const double B = double(sim.eos().B);
   const bool energy = energy_on_;
-  long flagged = 0, first_nan = -1;
-  FluidEnergy e;
-  {
-    auto& part = block_part_;
-    part.resize(std::size_t(nb));  // grows once
-#pragma omp parallel for schedule(static)
-    for (long b = 0; b < nb; ++b) {
-      BlockFlags s;
-      const std::size_t end = std::min(n, std::size_t(b + 1) * kBlock);
-      for (std::size_t i = std::size_t(b) * kBlock; i < end; ++i) {
-        std::uint8_t fl = 0;
-        const auto& x = f.x[i];
-        const double rho = double(f.rho[i]);
-        if (!x.allFinite() || !f.v[i].allFinite() || !std::isfinite(rho)) {
-          if (s.first_nan < 0) s.first_nan = long(i);
-        } else if (f.kind[i] == 0) {
-          for (int a = 0; a < D; ++a)
-            if (double(x[a]) < lo[std::size_t(a)] || double(x[a]) > hi[std::size_t(a)])
-              fl = 1 + std::uint8_t(RemovalRule::Domain);
-          const double v2 = double(f.v[i].squaredNorm());
-          if (!fl && (rho < rho_lo || rho > rho_hi)) fl = 1 + std::uint8_t(RemovalRule::Density);
-          if (!fl && v2 > v2_max) fl = 1 + std::uint8_t(RemovalRule::Speed);
-          if (energy && !fl) {
-            const double m = f.mass[i];
-            s.e.kinetic += 0.5 * m * v2;
-            s.e.potential -= m * double(g.dot(x - gmin));
-            s.e.internal += m * tait_internal_energy(rho, rho0_, B);
-            s.e.mass += m;
-          }
+  team_for(nb, [&](long b) {
+    BlockFlags s;
+    const std::size_t end = std::min(n, std::size_t(b + 1) * kBlock);
+    for (std::size_t i = std::size_t(b) * kBlock; i < end; ++i) {
+      std::uint8_t fl = 0;
+      const auto& x = f.x[i];
+      const double rho = double(f.rho[i]);
+      if (!x.allFinite() || !f.v[i].allFinite() || !std::isfinite(rho)) {
+        if (s.first_nan < 0) s.first_nan = long(i);
+      } else if (f.kind[i] == 0) {
+        for (int a = 0; a < D; ++a)
+          if (double(x[a]) < lo[std::size_t(a)] || double(x[a]) > hi[std::size_t(a)])
+            fl = 1 + std::uint8_t(RemovalRule::Domain);
+        const double v2 = double(f.v[i].squaredNorm());
+        if (!fl && (rho < rho_lo || rho > rho_hi)) fl = 1 + std::uint8_t(RemovalRule::Density);
+        if (!fl && v2 > v2_max) fl = 1 + std::uint8_t(RemovalRule::Speed);
+        if (energy && !fl) {
+          const double m = f.mass[i];
+          s.e.kinetic += 0.5 * m * v2;
+          s.e.potential -= m * double(g.dot(x - gmin));
+          s.e.internal += m * tait_internal_energy(rho, rho0_, B);
+          s.e.mass += m;
         }
-        flag[i] = fl;
-        s.flagged += fl != 0;
       }
-      part[std::size_t(b)] = s;
+      flag[i] = fl;
+      s.flagged += fl != 0;
     }
+    part[b] = s;
+  });
+  team_single([&] {
+    flagged_ = 0;
+    first_nan_ = -1;
+    kept_energy_ = FluidEnergy{};
     for (long b = 0; b < nb; ++b) {  // in block order: the same sums for any thread count
-      const BlockFlags& s = part[std::size_t(b)];
-      flagged += s.flagged;
-      if (first_nan < 0 && s.first_nan >= 0) first_nan = s.first_nan;
-      e.kinetic += s.e.kinetic;
-      e.potential += s.e.potential;
-      e.internal += s.e.internal;
-      e.mass += s.e.mass;
+      const BlockFlags& s = part[b];
+      flagged_ += s.flagged;
+      if (first_nan_ < 0 && s.first_nan >= 0) first_nan_ = s.first_nan;
+      kept_energy_.kinetic += s.e.kinetic;
+      kept_energy_.potential += s.e.potential;
+      kept_energy_.internal += s.e.internal;
+      kept_energy_.mass += s.e.mass;
     }
-  }
+    flags_ready_ = true;
+  });
+}
+
+template <int D>
+std::string HealthMonitor<D>::after_step(Simulation<D>& sim) {
+  if (!started_) start(sim);
+  last_removed_.clear();
+  if (!flags_ready_) flag_pass(sim);  // not run inside the step's region
+  flags_ready_ = false;
+  const auto& f = sim.fields();
+  const std::size_t n = sim.size();
+  const std::uint8_t* flag = flag_.data();
+  const bool energy = energy_on_;
+  const long flagged = flagged_, first_nan = first_nan_;
+  FluidEnergy e = kept_energy_;
   // a distributed run decides on global figures: every rank takes the same branch below, and a message
   // names the particle of the lowest rank that has one
   const bool dist = sim.distributed();

@@ -67,6 +67,10 @@ class HealthMonitor {
   // After each step. Applies the removal rules and returns "" or, for a blow-up, the message naming the
   // rule, the particle or the figures (the state is then left as the step made it).
   std::string after_step(Simulation<D>& sim);
+  // The per-particle part of after_step (flags, the energy of the fluid that stays) on the state after a
+  // step. Every thread of a step's parallel region may call it (core/team.hpp: Simulation::advance runs it
+  // there, saving the check its own fork/join); after_step uses its result, or runs it itself.
+  void flag_pass(const Simulation<D>& sim);
 
   // Particles removed by the last after_step() (for removed.csv and the first-removal warning).
   const std::vector<RemovedParticle>& last_removed() const { return last_removed_; }
@@ -117,6 +121,10 @@ class HealthMonitor {
   std::vector<BlockFlags> block_part_;          // per fixed block of particles (scratch, grows once)
   mutable std::vector<FluidEnergy> energy_part_;  // idem
   bool started_ = false;
+  // flag_pass result for after_step
+  bool flags_ready_ = false;
+  long flagged_ = 0, first_nan_ = -1;
+  FluidEnergy kept_energy_;
 };
 
 }  // namespace varsph

@@ -135,7 +135,10 @@ class Runner {
       StepReport rep;
       try {
         const auto t_step = clock::now();
-        rep = sim.advance();
+        // the health check's per-particle pass runs inside the step's parallel region where there is one
+        rep = sim.advance([&] {
+          if (!sim.on_device()) health_.flag_pass(sim);
+        });
         step_seconds_ += seconds_since(t_step);
       } catch (const NumericalError& e) {  // e.g. a fixed point that did not converge (on_failure = fail)
         // the integrator left the state at the last accepted step: write it as the last good frame and

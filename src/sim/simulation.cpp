@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include <omp.h>
+
 #include "core/errors.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/domain.hpp"
@@ -13,6 +15,7 @@
 #include "integrators/time_step_control.hpp"
 #include "physics/corrections/corrections.hpp"
 #include "sim/build_particles.hpp"
+#include "sim/step_region.hpp"
 
 namespace varsph {
 namespace {
@@ -169,6 +172,10 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
   update_pressure();
   dt_ = scene.dt ? *scene.dt : cfl_dt();
   integrator_->initialize(*this);
+  // one parallel region per step (core/team.hpp) for schemes written for it, in one process on the CPU
+  one_region_ok_ = integrator_->one_region_step() && !domain_ && scene.device == "cpu" &&
+                   dynamic_cast<const parallel::SerialCommunicator*>(comm_.get()) != nullptr &&
+                   step_region_mode() == StepRegion::One;
   if (scene.device != "cpu") {  // initialised on the host, then stepped on the device
     device_ = std::make_unique<exec::DeviceRun<D>>(*this, std::move(integrator_));
     integrator_ = device_->take_integrator();
@@ -323,27 +330,27 @@ void Simulation<D>::move_boundaries(double t) {
 template <int D>
 void Simulation<D>::sort_and_bin() {
   // moving walls take their place in the new configuration (time t + dt) before binning
-  if (motion_ && motion_->active()) move_boundaries(time_ + dt_);
+  if (motion_ && motion_->active()) team_single([&] { move_boundaries(time_ + dt_); });
   rebin();
 }
 
 template <int D>
 void Simulation<D>::rebin() {
   if (domain_) {  // migrate, order as one process would, ghosts, grid (parallel/domain.hpp)
-    domain_->rebin(store_, grid_, position_like_);
+    team_single([&] { domain_->rebin(store_, grid_, position_like_); });  // never in a step region today
     return;
   }
   auto& x = f_.x.data;
   bool any_periodic = false;
   for (int a = 0; a < D; ++a) any_periodic |= scene_.periodic[a];
   if (any_periodic) {
-    for (std::size_t i = 0; i < x.size(); ++i) {
+    for_each_particle(x.size(), [&](std::size_t i) {  // each particle its own slots
       const Vec<D> s = grid_.wrap_shift(x[i]);
       if (s.squaredNorm() > 0) {
         x[i] += s;
         for (auto* f : position_like_) f->data[i] += s;
       }
-    }
+    });
   }
   grid_.build(std::span<const Vec<D>>(x), perm_);
   store_.permute(perm_);
@@ -369,7 +376,7 @@ Vec<D>* Simulation<D>::compute_xsph() {
 template <int D>
 void Simulation<D>::apply_shifting() {
   if (!rates_->shifting_enabled()) return;
-  shift_scratch_.resize(store_.size());
+  team_single([&] { shift_scratch_.resize(store_.size()); });
   Vec<D>* dr = shift_scratch_.data();
   rates_->shifting(grid_, current_view(), Real(dt_), dr);
   Vec<D>* x = f_.x.data.data();
@@ -428,16 +435,39 @@ double Simulation<D>::choose_dt() const {
 }
 
 template <int D>
+bool Simulation<D>::steps_in_one_region() const {
+  return one_region_ok_ && size() + ghosts() < kOneRegionMax && omp_get_max_threads() > 1;
+}
+
+template <int D>
 const StepReport& Simulation<D>::advance() {
+  return advance(std::function<void()>());
+}
+
+template <int D>
+const StepReport& Simulation<D>::advance(const std::function<void()>& after_step) {
   if (motion_->active()) move_boundaries(time_);  // walls at t_k for the forces of this step
   rates_->set_time(time_);  // gravity ramp, damping window
   if (domain_) domain_->step_begin();
-  report_ = integrator_->step(*this);
+  // Shepard re-initialisation changes the densities after the step: the check then runs after it
+  const bool reinit = scene_.shepard_reinit_every > 0 && (step_ + 1) % scene_.shepard_reinit_every == 0;
+  bool checked = false;
+  if (steps_in_one_region()) {
+    run_team([&] {  // one fork/join for the whole step (core/team.hpp)
+      const StepReport r = integrator_->step(*this);
+      team_single([&] { report_ = r; });
+      if (after_step && !reinit) after_step();
+    });
+    checked = !reinit;
+  } else {
+    report_ = integrator_->step(*this);
+  }
   ++step_;
   if (domain_) domain_->step_end(step_);  // load balance: may schedule a repartition for the next sort
   // fixed dt: t = t0 + k dt exactly as two runs with the same dt compute it (frames match by time)
   time_ += dt_;
   if (scene_.shepard_reinit_every > 0 && step_ % scene_.shepard_reinit_every == 0) reinitialise_density();
+  if (after_step && !checked) after_step();
   return report_;
 }
 

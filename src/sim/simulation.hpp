@@ -1,6 +1,7 @@
 #pragma once
 // A scene resolved into one self-contained value: particle store, neighbour grid, the compiled physics
 // passes and the integrator. Nothing global: several simulations can live in one process.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -57,6 +58,9 @@ class Integrator {
   virtual void initialize(Simulation<D>& sim) = 0;
   // Advances the simulation by one step of length dt (chosen by the simulation's dt control).
   virtual StepReport step(Simulation<D>& sim) = 0;
+  // True when step() follows core/team.hpp's rules (shared state written only in team_single or by the
+  // loop helpers), so the simulation may run it inside one parallel region (issue 19: no fork per loop).
+  virtual bool one_region_step() const { return false; }
   // Scalar state later steps depend on beyond the registered particle fields (e.g. a dt controller's
   // memory, a halving schedule), saved in checkpoints so a restarted run is bitwise identical.
   virtual nlohmann::json save_state() const { return nlohmann::json::object(); }
@@ -98,6 +102,10 @@ class Simulation {
 
   // One step of the integrator; updates time, step and the step report.
   const StepReport& advance();
+  // The same, then after_step() on the new state: inside the step's parallel region when the step runs in
+  // one (so a per-particle check costs no fork/join of its own; it must follow core/team.hpp's rules), else
+  // right after. Skipped into the region only when nothing else changes the state after the step.
+  const StepReport& advance(const std::function<void()>& after_step);
   const StepReport& last_report() const { return report_; }
 
   // --- services for integrators -----------------------------------------------------------------
@@ -128,7 +136,11 @@ class Simulation {
   bool shifting_enabled() const { return rates_->shifting_enabled(); }
   // dt for the next step from the scene's fixed dt or CFL rule, given the last accelerations.
   double choose_dt() const;
-  void set_dt(double dt) { dt_ = dt; }
+  void set_dt(double dt) {
+    team_single([&] { dt_ = dt; });  // every thread of a step region calls it
+  }
+  // Whether the next step runs in one OpenMP parallel region (core/team.hpp, sim/step_region.hpp).
+  bool steps_in_one_region() const;
   // Positions and velocities of moving boundary bodies at time t (no-op when no body moves).
   void move_boundaries(double t);
   double cfl_dt() const;  // the CFL limit on the current state (for `info` and reports)
@@ -210,6 +222,7 @@ class Simulation {
   double time_ = 0, dt_ = 0;
   long step_ = 0;
   StepReport report_;
+  bool one_region_ok_ = false;  // the step may run in one parallel region (below kOneRegionMax particles)
   std::shared_ptr<parallel::Communicator> comm_;  // one rank: a SerialCommunicator
   std::unique_ptr<parallel::Domain<D>> domain_;   // null in one process
 };

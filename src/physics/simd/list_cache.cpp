@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/errors.hpp"
+#include "core/team.hpp"
 
 namespace varsph::physics::simd {
 namespace {
@@ -47,16 +48,24 @@ bool ListCache::within_budget(const SweepArgs& A, int lanes) const {
 }
 
 void ListCache::prepare(SweepArgs& A, const void* grid, std::uint64_t generation, std::size_t n, int lanes) {
-  A.list_mode = 0;
-  if (!enabled_ || A.walls_only) return;
+  team_single([&] { mode_ = decide(A, grid, generation, n, lanes); });  // once per team (core/team.hpp)
+  A.list_mode = mode_;
+  if (mode_ == 2) {
+    A.lists = this;
+    A.load_lists = &ListCache::load;
+  } else if (mode_ == 1) {
+    A.lists = this;
+    A.store_lists = &ListCache::store;
+  }
+}
+
+int ListCache::decide(const SweepArgs& A, const void* grid, std::uint64_t generation, std::size_t n, int lanes) {
+  if (!enabled_ || A.walls_only) return 0;
   if (same_key(A, grid, generation, n)) {
     reuse_seen_ = true;
     if (stored_ && lanes == lanes_) {
-      A.list_mode = 2;
       reuses.fetch_add(1, std::memory_order_relaxed);
-      A.lists = this;
-      A.load_lists = &ListCache::load;
-      return;
+      return 2;
     }
   } else {
     stored_ = false;
@@ -64,7 +73,7 @@ void ListCache::prepare(SweepArgs& A, const void* grid, std::uint64_t generation
       x_ = {};
       kind_ = {};
       grid_ = nullptr;
-      return;
+      return 0;
     }
     grid_ = grid;
     generation_ = generation;
@@ -73,7 +82,7 @@ void ListCache::prepare(SweepArgs& A, const void* grid, std::uint64_t generation
     dim_ = A.dim;
     x_.assign(A.x, A.x + n * std::size_t(A.dim));
     kind_.assign(A.kind, A.kind + n);
-    if (!reuse_seen_) return;  // no scheme so far has come back to a configuration: storing would not pay
+    if (!reuse_seen_) return 0;  // no scheme so far has come back to a configuration: storing would not pay
   }
   // store this pass's lists
   lanes_ = lanes;
@@ -81,9 +90,7 @@ void ListCache::prepare(SweepArgs& A, const void* grid, std::uint64_t generation
   arenas_.resize(std::size_t(std::max(1, omp_get_max_threads())));
   for (Arena& a : arenas_) a.ni = a.nr = 0;
   stored_ = true;
-  A.list_mode = 1;
-  A.lists = this;
-  A.store_lists = &ListCache::store;
+  return 1;
 }
 
 void ListCache::store(void* self, std::uint32_t i, const NeighbourList& vec, const NeighbourList& other) {

@@ -25,7 +25,8 @@ class ListCache {
 
   // Sets A.list_mode (and the cache's callbacks) for the pass A describes: 2 when this configuration's
   // lists are stored, 1 to store them during the pass, 0 otherwise. n: particles of A.x and A.kind;
-  // lanes: the vector width of the sweep that will run (its list padding).
+  // lanes: the vector width of the sweep that will run (its list padding). Inside a step's parallel region
+  // every thread calls it: one decides (team_single), each sets its own copy of A.
   void prepare(SweepArgs& A, const void* grid, std::uint64_t generation, std::size_t n, int lanes);
 
   bool enabled() const { return enabled_; }
@@ -44,10 +45,12 @@ class ListCache {
   };
   static void store(void* self, std::uint32_t i, const NeighbourList& vec, const NeighbourList& other);
   static void load(const void* self, std::uint32_t i, NeighbourList& vec, NeighbourList& other);
+  int decide(const SweepArgs& A, const void* grid, std::uint64_t generation, std::size_t n, int lanes);
   bool same_key(const SweepArgs& A, const void* grid, std::uint64_t generation, std::size_t n) const;
   bool within_budget(const SweepArgs& A, int lanes) const;
 
   bool enabled_ = true;
+  int mode_ = 0;             // the last decision (SweepArgs::list_mode)
   bool reuse_seen_ = false;  // two consecutive passes met the same configuration
   bool stored_ = false;      // the arenas hold the keyed configuration's lists
   // key of the last configuration

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "core/team.hpp"
 #include "physics/simd/sweep_args.hpp"
 
 namespace {
@@ -197,9 +198,7 @@ struct Sweep {
 
   template <bool CONT, bool ACC, int DIFF, int VISC, bool LAM>
   static void run(const SweepArgs& A) {
-    const long nb = A.n_blocks;
-#pragma omp parallel for schedule(dynamic, 4)
-    for (long b = 0; b < nb; ++b) {
+    varsph::team_for_dynamic(A.n_blocks, [&](long b) {
       const std::uint32_t* blk = A.blocks + 4 * std::size_t(b);
       SweepScratch& S = *A.scratch(candidates_of(A, blk) + 2 * W);
       std::uint32_t nc = 0;
@@ -234,7 +233,7 @@ struct Sweep {
         }
         A.finish(A.pass, i, sums, S.other);
       }
-    }
+    });
   }
 
   // with or without Morris' laminar viscosity beside the other terms
