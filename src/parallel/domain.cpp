@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 #include "core/errors.hpp"
 
@@ -74,7 +76,13 @@ void unpack(std::span<FieldBase* const> fields, std::size_t first, std::size_t c
 
 template <int D>
 Domain<D>::Domain(std::shared_ptr<Communicator> comm, DomainOptions options)
-    : comm_(std::move(comm)), opt_(options) {}
+    : comm_(std::move(comm)), opt_(options) {
+  if (const char* e = std::getenv("VARSPH_HALO_OVERLAP")) {
+    const std::string want(e);
+    if (want != "on" && want != "off") throw InputError("VARSPH_HALO_OVERLAP=" + want + ": expected on or off");
+    opt_.overlap = want == "on";
+  }
+}
 
 template <int D>
 void Domain<D>::attach(ParticleStore& store, std::vector<std::string> halo_fields) {
@@ -192,6 +200,8 @@ void Domain<D>::find_peers() {
 template <int D>
 void Domain<D>::rebin(ParticleStore& store, NeighborGrid<D>& grid, std::span<Field<Vec<D>>* const> position_like) {
   ++stats_.rebins;
+  if (in_flight_) throw std::logic_error("Domain::rebin: a halo refresh is in flight");
+  const double w0 = comm_->wait_seconds();
   configure_from(grid);
   store.resize(owned_);  // ghosts are rebuilt below
   ghosts_ = 0;
@@ -220,6 +230,17 @@ void Domain<D>::rebin(ParticleStore& store, NeighborGrid<D>& grid, std::span<Fie
   migrate(store, cells_);
   exchange_ghosts(store);
   build_topology(store.get<Vec<D>>("position").data, grid);
+  stats_.rebin_wait_seconds += comm_->wait_seconds() - w0;
+  if (opt_.overlap) {  // interior blocks: every neighbour range lies among the owned particles [0, owned)
+    const auto& ranges = grid.ranges();
+    const std::uint32_t owned = std::uint32_t(owned_);
+    split_.build(grid, [&](const CellBlock& b) {
+      for (std::uint32_t r = b.nbr_begin; r < b.nbr_end; ++r)
+        if (ranges[r].end > owned) return false;
+      return true;
+    });
+    stats_.interior_particles = std::int64_t(split_.picked_particles());
+  }
 }
 
 template <int D>
@@ -528,7 +549,8 @@ void Domain<D>::build_topology(std::span<const Vec<D>> x, NeighborGrid<D>& grid)
 }
 
 template <int D>
-void Domain<D>::refresh(std::span<const HaloArray> arrays) {
+void Domain<D>::begin_refresh(std::span<const HaloArray> arrays) {
+  if (in_flight_) throw std::logic_error("halo refresh: begun while another is in flight");
   if (peers_.empty()) return;
   ++stats_.refreshes;
   std::size_t B = 0;
@@ -536,6 +558,7 @@ void Domain<D>::refresh(std::span<const HaloArray> arrays) {
     if (a.count < owned_ + ghosts_) throw std::logic_error("halo refresh: an array shorter than owned + ghost particles");
     B += a.bytes;
   }
+  pending_.assign(arrays.begin(), arrays.end());
   out_msgs_.clear();
   in_msgs_.clear();
   for (std::size_t k = 0; k < peers_.size(); ++k) {
@@ -553,11 +576,23 @@ void Domain<D>::refresh(std::span<const HaloArray> arrays) {
     rb.resize(p.recv_count * B);
     if (!rb.empty()) in_msgs_.push_back({p.rank, rb.data(), rb.size()});
   }
-  comm_->exchange(out_msgs_, in_msgs_);
+  const double w0 = comm_->wait_seconds();
+  comm_->begin_exchange(out_msgs_, in_msgs_);
+  stats_.refresh_wait_seconds += comm_->wait_seconds() - w0;
+  in_flight_ = true;
+}
+
+template <int D>
+void Domain<D>::finish_refresh() {
+  if (!in_flight_) return;
+  in_flight_ = false;
+  const double w0 = comm_->wait_seconds();
+  comm_->finish_exchange();
+  stats_.refresh_wait_seconds += comm_->wait_seconds() - w0;
   for (std::size_t k = 0; k < peers_.size(); ++k) {
     const Peer& p = peers_[k];
     const std::byte* in = recv_buf_[k].data();
-    for (const auto& a : arrays) {
+    for (const auto& a : pending_) {
       if (p.recv_count)
         std::memcpy(static_cast<std::byte*>(a.data) + (owned_ + p.recv_offset) * a.bytes, in, p.recv_count * a.bytes);
       in += p.recv_count * a.bytes;

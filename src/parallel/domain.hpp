@@ -27,6 +27,7 @@
 
 #include "core/particle_store.hpp"
 #include "neighbors/neighbor_grid.hpp"
+#include "parallel/block_split.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/partition.hpp"
 
@@ -48,6 +49,9 @@ struct DomainOptions {
   double threshold = 1.15;
   long check_every = 50;
   long force_every = 0;  // repartition every this many steps whatever the imbalance (tests)
+  // sweep the interior blocks (no ghost in their stencil) while a halo refresh is in flight
+  // (halo_rates.hpp); VARSPH_HALO_OVERLAP=off turns it off (A/B benchmarks)
+  bool overlap = true;
 };
 
 // Counters for reports and benchmarks.
@@ -55,6 +59,11 @@ struct DomainStats {
   std::int64_t rebins = 0, repartitions = 0, migrated = 0;
   std::int64_t halo_bytes_sent = 0;     // ghost rebuilds and refreshes, this rank, since construction
   std::int64_t refreshes = 0;
+  std::int64_t overlapped_refreshes = 0;  // refreshes with the interior sweep between post and wait
+  // seconds inside communication calls (waiting included): halo refreshes (post + wait), and rebin()
+  // (migration, ghost rebuild, the partition's reductions)
+  double refresh_wait_seconds = 0, rebin_wait_seconds = 0;
+  std::int64_t interior_particles = 0;  // owned particles whose stencil holds no ghost, at the last rebin
 };
 
 template <int D>
@@ -96,7 +105,21 @@ class Domain {
   // global domain; a change of its cells (a new skin) repartitions.
   void rebin(ParticleStore& store, NeighborGrid<D>& grid, std::span<Field<Vec<D>>* const> position_like);
   // Collective. Owners' values of the arrays into the ghost slots (one message per peer).
-  void refresh(std::span<const HaloArray> arrays);
+  void refresh(std::span<const HaloArray> arrays) {
+    begin_refresh(arrays);
+    finish_refresh();
+  }
+  // refresh() in two halves: begin packs the owners' values and posts the messages, finish waits and
+  // writes the ghost slots. Between them the owned values may be read, not written, and the ghost
+  // slots are neither read nor written (they hold the previous values until finish).
+  void begin_refresh(std::span<const HaloArray> arrays);
+  void finish_refresh();
+  // The grid's blocks split into interior (part 0: no ghost in the stencil) and boundary (part 1) ones,
+  // made at the last rebin(); null when `grid` is not the grid rebin() built or overlap is off.
+  const BlockSplit<D>* split_for(const NeighborGrid<D>& grid) const {
+    return opt_.overlap && split_.made_from(grid) ? &split_ : nullptr;
+  }
+  void count_overlapped_refresh() { ++stats_.overlapped_refreshes; }
 
   // Load balance: the caller brackets each step; every check_every steps the busy times are compared
   // (collective) and a repartition is scheduled for the next rebin() when they differ too much.
@@ -154,6 +177,10 @@ class Domain {
   std::vector<std::vector<std::byte>> send_buf_, recv_buf_;
   std::vector<std::byte> gather_scratch_;
   std::vector<Message> out_msgs_, in_msgs_;
+  std::vector<HaloArray> pending_;  // arrays of the refresh in flight
+  bool in_flight_ = false;
+  double refresh_wait_t0_ = 0;
+  BlockSplit<D> split_;
   std::vector<CellBlock> blocks_;
   std::vector<NeighborRange> ranges_;
   std::vector<std::array<std::uint32_t, 2>> window_;  // (begin, end) of every cell of box +- m

@@ -31,6 +31,13 @@ class Rates {
     acceleration(grid, s, a);
   }
   virtual bool fused() const { return false; }  // true when density_rate_and_acceleration is one sweep
+  // True when every pass but shifting and boundary_reaction is a gather over the grid's blocks and
+  // writes nothing but their particles' slots: a pass over a grid holding some of the blocks then
+  // computes for their particles what the pass over all blocks does, so a pass may run as two sweeps
+  // over complementary sets of blocks (parallel/halo_rates.hpp overlaps the halo exchange that way).
+  // False when a pass also does per-particle work that must run once (damping) or reads what another
+  // sweep of the same call wrote for the neighbours (Antuono's density gradients), or mDBC.
+  virtual bool splits_by_blocks() const { return false; }
   // instruction set of the vectorised pair sweep in use where it covers the scene's terms ("scalar": none)
   virtual const char* simd() const { return "scalar"; }
   // force of the fluid on every boundary particle (BoundaryReactionPass; fluid slots untouched) [N]

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/first_touch.hpp"
+#include "core/team.hpp"
 #include "kernels/tabulated.hpp"
 #include "physics/pair_loop.hpp"
 #include "physics/passes.hpp"
@@ -49,6 +50,9 @@ class RatesImpl final : public Rates<D> {
     add_optional_accelerations(g, s, a);
   }
   bool fused() const override { return fused_fn_ != nullptr; }
+  bool splits_by_blocks() const override {  // see Rates; the damping window depends on the time
+    return !damping_on_ && p_.diffusion != DensityDiffusion::Antuono && p_.boundary != BoundaryModel::Mdbc;
+  }
   const char* simd() const override { return simd::to_string(vector_covered_ ? isa_ : simd::Isa::Scalar); }
   // artificial stress and damping, each its own loop and only when named
   void add_optional_accelerations(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) const {
@@ -142,7 +146,24 @@ class RatesImpl final : public Rates<D> {
   // the vectorised sweep where it covers the pass (physics/simd/), else the scalar one (the reference)
   template <class Pass>
   void sweep(const NeighborGrid<D>& g, const ParticleView<D>& s, Pass& pass) const {
-    if (!simd::vector_sweep<D>(isa_, g, pass, &lists_)) for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+    if (!simd::vector_sweep<D>(isa_, g, pass, lists_for(g))) for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+  }
+  // One list cache per grid the passes meet, for the last two grids: a distributed run sweeps its interior
+  // and its boundary blocks as two grids in turn (parallel/block_split.hpp), which one cache keyed by
+  // the grid would never reuse. One process has one grid: lists_[0].
+  // Chosen once per team (core/team.hpp): every thread of a step's region then sweeps with the same cache.
+  simd::ListCache* lists_for(const NeighborGrid<D>& g) const {
+    team_single([&] {
+      for (int k = 0; k < 2; ++k)
+        if (list_grid_[k] == &g) {
+          list_pick_ = k;
+          return;
+        }
+      list_pick_ = list_next_;
+      list_next_ ^= 1;
+      list_grid_[list_pick_] = &g;
+    });
+    return &lists_[list_pick_];
   }
   template <class Visc, BoundaryModel M>
   static void run_acc(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* a) {
@@ -313,7 +334,9 @@ class RatesImpl final : public Rates<D> {
 
   PhysicsParams<D> p_;
   simd::Isa isa_ = simd::choose_isa();  // VARSPH_SIMD or the best this build and CPU have
-  mutable simd::ListCache lists_;         // neighbour lists kept between passes over one configuration
+  mutable simd::ListCache lists_[2];      // neighbour lists kept between passes over one configuration
+  mutable const void* list_grid_[2] = {nullptr, nullptr};  // the grid each cache serves (lists_for)
+  mutable int list_next_ = 0, list_pick_ = 0;
   Kernel W_;
   RepulsiveWall wall_;
   SoftRepulsiveWall soft_;

@@ -575,6 +575,12 @@ class Runner {
       p["max_ghost_particles_per_rank"] = comm_->max(double(sim.ghosts()));
       p["max_halo_bytes_sent_per_rank"] = comm_->max(double(st.halo_bytes_sent));
       p["halo_refreshes"] = st.refreshes;
+      // overlap of the halo refresh with the interior sweep (docs/parallel.md "Overlap")
+      p["overlapped_refreshes"] = st.overlapped_refreshes;
+      p["max_refresh_wait_seconds"] = comm_->max(st.refresh_wait_seconds);
+      p["mean_refresh_wait_seconds"] = comm_->sum(st.refresh_wait_seconds) / comm_->size();
+      p["max_rebin_wait_seconds"] = comm_->max(st.rebin_wait_seconds);
+      p["interior_particles"] = std::int64_t(comm_->sum(double(st.interior_particles)));
     }
     return p;
   }

@@ -68,6 +68,28 @@ TEST(MpiRuns, RepartitioningEverySevenStepsChangesNoBit) {
   EXPECT_GT(j.at("parallel").at("particles_migrated").get<long>(), 0);
 }
 
+// The halo refresh overlapped with the interior sweep (parallel/halo_rates.hpp): on by default, off with
+// VARSPH_HALO_OVERLAP=off; both bitwise equal to one process, with dummy walls (wall update pass) and XSPH
+// split too. run.json says how many refreshes were overlapped and how many particles are interior.
+TEST(MpiRuns, HaloOverlapOnAndOffEqualOneProcessBitwise) {
+  const std::string args = "--set time.end=0.02 --set output.every=0.01 --set boundary.model=\\\"dummy_adami\\\" "
+                           "--set physics.xsph={}";
+  expect_bitwise("overlap_on", pipeline("dam_break_2d_paper.json"), args, {2, 3});
+  setenv("VARSPH_HALO_OVERLAP", "off", 1);
+  expect_bitwise("overlap_off", pipeline("dam_break_2d_paper.json"), args, {3});
+  unsetenv("VARSPH_HALO_OVERLAP");
+  const auto on = nlohmann::json::parse(read_text(binary_dir() / "test_scratch" / "mpi_overlap_on" / "ranks3" / "run.json"));
+  const auto off = nlohmann::json::parse(read_text(binary_dir() / "test_scratch" / "mpi_overlap_off" / "ranks3" / "run.json"));
+  const auto& p = on.at("parallel");
+  // per step: the acceleration, the wall update and XSPH are split; the density update too
+  EXPECT_GE(p.at("overlapped_refreshes").get<long>(), 3 * 200);
+  EXPECT_EQ(p.at("halo_refreshes").get<long>(), off.at("parallel").at("halo_refreshes").get<long>());
+  EXPECT_EQ(off.at("parallel").at("overlapped_refreshes").get<long>(), 0);
+  const long interior = p.at("interior_particles").get<long>();
+  EXPECT_GT(interior, 0);
+  EXPECT_LT(interior, 1682 + 358);
+}
+
 // 2D periodic shear layer (no walls, no gravity): two fluid slabs moving against each other.
 nlohmann::json shear_box() {
   return nlohmann::json::parse(R"({
