@@ -2,6 +2,8 @@
 // (exit 2 on --restart) or reads back exactly the content of the undamaged file (the flip hit bytes
 // HDF5 never reads). A crash, another exception or a different state fails. The fast test flips one
 // bit in each of 1500 random bytes; test_checkpoint_damage_all (validation tier) flips every bit of the file.
+#include <hdf5.h>
+
 #include "checkpoint_damage.hpp"
 
 using namespace varsph;
@@ -23,6 +25,9 @@ TEST(CheckpointDamage, OneFlippedBitInEachOf1500RandomBytesIsRefusedOrHarmless) 
   std::printf("[ flips    ] %zu-byte checkpoint, 1500 single-bit flips: %ld refused (exit 2), %ld in unread bytes\n",
               bytes.size(), t.refused, t.intact);
   EXPECT_GT(t.refused, 0);  // the checks see damage at all (the share depends on HDF5's unused space)
+  // every identifier the reader opened is closed again, refused files included: what LeakSanitizer still
+  // reports after this (HDF5 1.10.8's own blocks lost on damaged files) is suppressed in scripts/lsan.supp
+  EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
 }
 
 TEST(CheckpointDamage, FormatOneFilesWithoutDigestAreStillRead) {
