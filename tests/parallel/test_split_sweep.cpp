@@ -16,9 +16,11 @@
 #include "scene/json_reader.hpp"
 #include "scene/scene.hpp"
 #include "sim/simulation.hpp"
+#include "rates_with.hpp"
 #include "test_support.hpp"
 
 using namespace varsph;
+using varsph::test::rates_with;
 
 namespace {
 
@@ -29,15 +31,6 @@ std::unique_ptr<Simulation<2>> dam_break(const std::vector<std::string>& sets, i
   auto sim = std::make_unique<Simulation<2>>(scene::parse_scene_json(j, file, sets));
   for (int k = 0; k < steps; ++k) sim->advance();
   return sim;
-}
-
-template <int D>
-std::unique_ptr<physics::Rates<D>> rates_with(const Simulation<D>& sim, const char* isa) {
-  setenv("VARSPH_SIMD", isa, 1);
-  auto r = physics::make_rates<D>(sim.params());
-  unsetenv("VARSPH_SIMD");
-  r->set_time(sim.time());
-  return r;
 }
 
 // Outputs of one pass: every slot starts at the same sentinel, so slots a sweep leaves alone must match too.

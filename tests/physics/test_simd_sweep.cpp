@@ -20,9 +20,11 @@
 #include "scene/json_reader.hpp"
 #include "scene/scene.hpp"
 #include "sim/simulation.hpp"
+#include "rates_with.hpp"
 #include "test_support.hpp"
 
 using namespace varsph;
+using varsph::test::rates_with;
 namespace simd = varsph::physics::simd;
 
 namespace {
@@ -39,15 +41,6 @@ simd::Isa vector_isa() {
   GTEST_SKIP() << "no vector sweep on this machine: the build has none or the CPU lacks AVX2+FMA " \
                   "(the scalar sweep is all there is to test)"
 
-// Builds rates for the simulation's physics with the sweep VARSPH_SIMD names.
-template <int D>
-std::unique_ptr<physics::Rates<D>> rates_with(const Simulation<D>& sim, const char* isa) {
-  setenv("VARSPH_SIMD", isa, 1);
-  auto r = physics::make_rates<D>(sim.params());
-  unsetenv("VARSPH_SIMD");
-  r->set_time(sim.time());
-  return r;
-}
 
 enum class Which { Fused, Density, Acceleration };
 
