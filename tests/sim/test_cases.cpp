@@ -60,6 +60,7 @@ TEST_P(HydrostaticTank, HoldsStillWithHydrostaticPressure) {
   }
   EXPECT_LT(vmax, 0.01 * std::sqrt(g * H));
 }
+#ifdef VARSPH_TEST_HAVE_GEOMETRY  // the mesh-built tank and mesh errors need the geometry module
 INSTANTIATE_TEST_SUITE_P(Cases, HydrostaticTank,
                          ::testing::Values("hydrostatic_2d.json", "hydrostatic_2d_mesh.json"),
                          [](const auto& info) { return info.param.find("mesh") != std::string::npos ? "MeshTank" : "BoxTank"; });
@@ -74,12 +75,31 @@ TEST(Cases, MeshBodyErrorsAreInputErrorsNamingTheBodyAndFile) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("bodies.1"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("no_such_tank.poly2d"), std::string::npos) << r.output;
+}
+#else
+INSTANTIATE_TEST_SUITE_P(Cases, HydrostaticTank, ::testing::Values("hydrostatic_2d.json"),
+                         [](const auto&) { return std::string("BoxTank"); });
+
+TEST(Cases, MeshBodiesWithoutTheGeometryModuleAreInputErrorsNamingTheBody) {
+  // a build without CGAL refuses mesh bodies by design (src/sim/mesh_bodies.cpp): exit 2, not a crash
+  const auto dir = test::scratch_dir("mesh_without_geometry");
+  auto r = test::run_command(test::varsph_exe().string() + " sample " +
+                             (test::source_dir() / "pipelines" / "hydrostatic_2d_mesh.json").string() + " -o " +
+                             (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bodies.1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("need the geometry module"), std::string::npos) << r.output;
+}
+#endif
+
+TEST(Cases, FluidBodyInsideABoundaryBlockIsAnInputError) {
   // a fluid body entirely inside a boundary block: every fluid particle is removed -> exit 2
+  const auto dir = test::scratch_dir("fluid_in_wall");
   auto k = nlohmann::json::parse(test::read_text(test::source_dir() / "pipelines" / "hydrostatic_2d.json"));
   k["bodies"][1] = {{"kind", "boundary"}, {"shape", "box"}, {"min", {-0.01, -0.01}}, {"max", {0.41, 0.31}}, {"layers", 16}};
   std::ofstream(dir / "overlap.json") << k.dump();
-  r = test::run_command(test::varsph_exe().string() + " sample " + (dir / "overlap.json").string() + " -o " +
-                        (dir / "out2").string());
+  const auto r = test::run_command(test::varsph_exe().string() + " sample " + (dir / "overlap.json").string() +
+                                   " -o " + (dir / "out2").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("overlaps a boundary body"), std::string::npos) << r.output;
 }
