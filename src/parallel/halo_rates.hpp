@@ -56,6 +56,12 @@ class HaloRates final : public physics::Rates<D> {
     // the shifting pass's global speed ("max" mode) is a maximum over every rank's particles
     Communicator* comm = &domain.comm();
     inner_->global_max = [comm](Real v) { return Real(comm->max(double(v))); };
+    // Antuono's density pass reads its ghost neighbours' renormalised gradients: their owners' values
+    Domain<D>* dom = &domain;
+    inner_->refresh_ghosts = [dom](void* data, std::size_t bytes, std::size_t count) {
+      const HaloArray a{data, bytes, count};
+      dom->refresh(std::span<const HaloArray>(&a, 1));
+    };
   }
 
   static constexpr int Positions = kHaloPositions, Velocities = kHaloVelocities, State = kHaloState;

@@ -2,6 +2,7 @@
 // Rates of change of the fluid state, one virtual call per pass (never per pair). The concrete class
 // is instantiated for the scene's kernel; the viscosity, wall and density-diffusion policies are picked
 // once at construction (make_rates()), each combination a separately compiled pass.
+#include <cstddef>
 #include <functional>
 #include <memory>
 
@@ -67,6 +68,11 @@ class Rates {
   // A maximum over this process's particles made global (the shifting pass's "max" speed): the identity
   // in one process; a distributed run (parallel/halo_rates.hpp) sets the maximum over all ranks.
   std::function<Real(Real)> global_max = [](Real v) { return v; };
+  // Copies the owners' values of a per-particle scratch array (count elements of `bytes`, owned then
+  // ghosts) into the ghosts: null in one process; a distributed run (parallel/halo_rates.hpp) sets the
+  // halo exchange. Called only by a pass that reads a neighbour-derived quantity a ghost cannot compute
+  // itself (its neighbourhood is cut by the halo): Antuono's renormalised density gradients.
+  std::function<void(void* data, std::size_t bytes, std::size_t count)> refresh_ghosts;
 };
 
 template <int D>

@@ -214,6 +214,9 @@ class RatesImpl final : public Rates<D> {
       first_touch_resize(grad_rho_, s.size());  // inside a step region: resized once (core/team.hpp)
       RenormalisedDensityGradientPass<D, Kernel> pass{W_, s, volume_.data(), grad_rho_.data()};
       for_each_particle_pairs<D>(g, s.x, W_.support(), pass);
+      // a distributed run: the ghosts get their owners' gradients (eq. 10 reads grad_j of every neighbour)
+      if (this->refresh_ghosts)
+        team_single([&] { this->refresh_ghosts(grad_rho_.data(), sizeof(Vec<D>), grad_rho_.size()); });
       d.grad = grad_rho_.data();
       return d;
     } else {

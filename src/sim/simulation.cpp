@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include "core/errors.hpp"
+#include "parallel/collective.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/domain.hpp"
 #include "parallel/halo_rates.hpp"
@@ -131,13 +132,16 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
       wall_acc_ = &store_.add<Vec<D>>("wall_acceleration", {.exported = false});
   }
   integrator_ = make_integrator<D>(scene);
-  if (comm_->size() > 1 && scene.device != "cpu")
-    throw InputError(scene.file.string() + ": execution.device = \"" + scene.device + "\" is not available on several "
-                     "MPI ranks yet (docs/parallel.md, Limits); run it in one process or on the CPU");
-  if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
-    // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
-    throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
-                     "(docs/parallel.md, Limits); run it in one process or use \"dynamic\" or \"dummy_adami\" walls");
+  // what several ranks cannot run yet: every rank decides alike and they agree (one message, exit 2)
+  parallel::collectively(*comm_, [&] {
+    if (comm_->size() > 1 && scene.device != "cpu")
+      throw InputError(scene.file.string() + ": execution.device = \"" + scene.device + "\" is not available on "
+                       "several MPI ranks yet (docs/parallel.md, Limits); run it in one process or on the CPU");
+    if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
+      // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
+      throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
+                       "(docs/parallel.md, Limits); run it in one process or use \"dynamic\" or \"dummy_adami\" walls");
+  });
   if (comm_->size() > 1) {
     // distributed: every rank built every particle (the same, deterministically); rank r keeps rows
     // [n r / P, n (r+1) / P) in id order, and the first sort_and_bin() moves them to their owners

@@ -175,6 +175,73 @@ TEST(MpiRuns, FastParticlesThroughRankCornersEqualOneProcessBitwise) {
   EXPECT_GT(j.at("parallel").at("particles_migrated").get<long>(), 4096);  // each crossed several boxes
 }
 
+// A pipeline scene with keys replaced (merge_patch: `a`, then `b`; null removes a key), written to the
+// test's scratch directory.
+std::filesystem::path patched(const std::string& tag, const std::string& name, const nlohmann::json& a,
+                              const nlohmann::json& b = nlohmann::json::object()) {
+  nlohmann::json j = nlohmann::json::parse(read_text(pipeline(name)));
+  j.merge_patch(a);
+  j.merge_patch(b);
+  return write_scene(scratch_dir("mpi_" + tag + "_scene"), j);
+}
+
+// Antuono's delta-SPH (Antuono et al. 2010 eq. 10) reads every neighbour's renormalised density gradient,
+// which a ghost cannot compute (its support is cut by the halo): the owners' gradients are sent to the
+// ghosts after the gradient sweep (Rates::refresh_ghosts). Without that exchange 2 ranks drifted from
+// one process by 4.3e-6 m in 0.04 s on the first case. Every integrator evaluates it through the same
+// pass: Verlet (DualSPHysics' scheme) with dynamic walls in 2D and 3D, and the variational integrator's
+// midpoints and fixed-point iterates in a periodic box.
+TEST(MpiRuns, AntuonoDeltaSphEqualsOneProcessBitwise) {
+  const nlohmann::json antuono = {{"physics", {{"density_diffusion", {{"type", "antuono"}, {"delta", 0.1}}}}}};
+  nlohmann::json peer = antuono;  // the DualSPHysics comparison case at 2 cm: 5000 fluid particles, ~6.4e-5 s steps
+  peer["particles"] = {{"spacing", 0.02}};
+  peer["time"] = {{"end", 0.015}};
+  peer["output"] = {{"every", 0.015}, {"precision", "float64"}};
+  expect_bitwise("antuono_2d", patched("antuono_2d", "dam_break_2d_dsph_val.json", peer), "", {2, 3});
+
+  nlohmann::json box = shear_box();
+  box.merge_patch(antuono);
+  setenv("VARSPH_VARIATIONAL_PREDICTOR", "constant", 1);  // several exchanged iterates per step
+  expect_bitwise("antuono_variational", write_scene(scratch_dir("mpi_antuono_variational_scene"), box), "", {2, 3});
+  unsetenv("VARSPH_VARIATIONAL_PREDICTOR");
+
+  // (set on the command line: the scene's mesh paths are relative to its directory)
+  expect_bitwise("antuono_3d", pipeline("dam_break_3d_spheric2.json"),
+                 R"(--set 'physics.density_diffusion={"type":"antuono","delta":0.1}' --set particles.spacing=0.08 )"
+                 "--set time.end=0.135 --set output.every=0.135", {3});
+}
+
+// The other terms that read something of a neighbour beyond its position, velocity, density, pressure,
+// mass and kind: on 3 ranks each equals one process bit for bit. Riemann-solver dissipation (the pressures
+// of Adami's extrapolated walls), laminar viscosity, Shepard re-initialisation,
+// tangential shifting (its free-surface test div r is the particle's own sum), Fourtakas and Molteni
+// diffusion, artificial stress, XSPH, damping, soft repulsive walls, a gravity ramp; with four integrators.
+TEST(MpiRuns, NeighbourReadingTermsEqualOneProcessBitwise) {
+  const nlohmann::json base = {{"particles", {{"spacing", 0.02}}},
+                               {"time", {{"end", 0.015}}},
+                               {"output", {{"every", 0.015}, {"precision", "float64"}}}};
+  const std::string peer = "dam_break_2d_dsph_val.json";
+  const auto riemann_adami = nlohmann::json::parse(R"({
+    "physics": {"artificial_viscosity": null, "density_diffusion": null, "riemann": {"eta": 3.0},
+                "laminar_viscosity": {"nu": 1e-6}, "shifting": {"free_surface": "tangential"}},
+    "boundary": {"model": "dummy_adami", "slip": "free_slip"},
+    "integrator": {"type": "verlet", "cfl": 0.2}})");
+  expect_bitwise("riemann_adami", patched("riemann_adami", peer, base, riemann_adami), "", {3});
+
+  const auto molteni = nlohmann::json::parse(R"({
+    "physics": {"density_diffusion": {"type": "molteni", "delta": 0.1},
+                "tensile_instability": {"type": "artificial_stress"}, "xsph": {"epsilon": 0.3},
+                "damping": {"mu": 5.0, "until": 0.005}, "gravity_ramp": {"duration": 0.01},
+                "shepard_reinit": {"every": 20}},
+    "boundary": {"model": "soft_repulsive"},
+    "integrator": {"type": "predictor_corrector", "cfl": 0.2}})");
+  expect_bitwise("molteni_stress", patched("molteni_stress", peer, base, molteni), "", {3});
+
+  // the scene's own diffusion, with RK4's four stages
+  const auto rk4 = nlohmann::json::parse(R"({"integrator": {"type": "rk4", "cfl": 0.2}})");
+  expect_bitwise("fourtakas_rk4", patched("fourtakas_rk4", peer, base, rk4), "", {2});
+}
+
 // Starts `cmd` (through sh; exec makes its pid the launcher's) and returns the pid.
 pid_t spawn(const std::string& cmd) {
   const pid_t pid = fork();
