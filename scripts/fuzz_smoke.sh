@@ -23,9 +23,10 @@ cmake -S fuzz -B build/fuzz "${generator[@]}" "${launcher[@]}" -DCMAKE_CXX_COMPI
 read -r -a targets <<< "${FUZZ_TARGETS:-scene checkpoint}"
 cmake --build build/fuzz -j"$(nproc)" --target "${targets[@]/#/fuzz_}"
 work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+scratch="$(mktemp -d -p /dev/shm 2>/dev/null || mktemp -d)"  # the inputs' scratch files: memory, not disk
+trap 'rm -rf "$work" "$scratch"' EXIT
 /usr/bin/python3 fuzz/make_corpus.py "$work/corpus" --varsph build/release/bin/varsph
-export VARSPH_FUZZ_TMP="$work"
+export VARSPH_FUZZ_TMP="$scratch"
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp"  # HDF5's own leaks on damaged files
 mkdir -p "$work/artifacts"
 passed=0
