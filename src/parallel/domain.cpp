@@ -618,7 +618,22 @@ void Domain<D>::step_end(long step) {
     busy_since_check_ = 0;
     const double mx = *std::max_element(all.begin(), all.end());
     const double mean = std::accumulate(all.begin(), all.end(), 0.0) / double(all.size());
+    if (opt_.weights_by_cost) refit_weights(all);
     if (mean > 0 && mx / mean > opt_.threshold) repartition_pending_ = true;
+  }
+}
+
+template <int D>
+void Domain<D>::refit_weights(std::span<const double> busy) {
+  std::int64_t fluid = 0;
+  for (std::size_t i = 0; i < owned_; ++i) fluid += kind_->data[i] == 0;
+  const auto f = comm_->allgather(double(fluid));
+  const auto w = comm_->allgather(double(std::int64_t(owned_) - fluid));
+  cost_fit_.add(busy, f, w);
+  if (const auto bw = cost_fit_.boundary_weight()) {  // the same on every rank: same values, same arithmetic
+    opt_.fluid_weight = CostFit::kFluidWeight;
+    opt_.boundary_weight = *bw;
+    ++stats_.weight_fits;
   }
 }
 

@@ -28,6 +28,7 @@
 #include "core/particle_store.hpp"
 #include "neighbors/neighbor_grid.hpp"
 #include "parallel/block_split.hpp"
+#include "parallel/cost_fit.hpp"
 #include "parallel/communicator.hpp"
 #include "parallel/partition.hpp"
 
@@ -52,6 +53,9 @@ struct DomainOptions {
   // sweep the interior blocks (no ghost in their stencil) while a halo refresh is in flight
   // (halo_rates.hpp); VARSPH_HALO_OVERLAP=off turns it off (A/B benchmarks)
   bool overlap = true;
+  // parallel.weights.mode = "cost": the boundary weight is refitted from the ranks' busy times at every
+  // balance check (cost_fit.hpp); "count" keeps fluid_weight and boundary_weight
+  bool weights_by_cost = false;
 };
 
 // Counters for reports and benchmarks.
@@ -64,6 +68,7 @@ struct DomainStats {
   // (migration, ghost rebuild, the partition's reductions)
   double refresh_wait_seconds = 0, rebin_wait_seconds = 0;
   std::int64_t interior_particles = 0;  // owned particles whose stencil holds no ghost, at the last rebin
+  std::int64_t weight_fits = 0;         // balance checks that refitted the weights from cost
 };
 
 template <int D>
@@ -143,6 +148,7 @@ class Domain {
   };
   void configure_from(const NeighborGrid<D>& grid);
   void repartition(std::span<const Vec<D>> x, std::span<const std::int32_t> kind, std::size_t n);
+  void refit_weights(std::span<const double> busy);  // collective (weights_by_cost)
   void find_peers();
   void migrate(ParticleStore& store, std::span<const Coord> cells);
   void order_owned(ParticleStore& store, std::size_t kept, const std::vector<std::size_t>& run_starts);
@@ -188,6 +194,7 @@ class Domain {
   // busy-time bookkeeping (load balance and the imbalance column)
   double step_t0_ = 0, wait_t0_ = 0;
   double busy_since_check_ = 0, busy_since_report_ = 0;
+  CostFit cost_fit_;  // weights_by_cost: the costs per particle kind fitted so far
 };
 
 }  // namespace varsph::parallel

@@ -68,6 +68,23 @@ TEST(MpiRuns, RepartitioningEverySevenStepsChangesNoBit) {
   EXPECT_GT(j.at("parallel").at("particles_migrated").get<long>(), 0);
 }
 
+// parallel.weights.mode = "cost": the boundary weight refitted from the ranks' busy times at every check
+// (parallel/cost_fit.hpp) and a repartition at each (threshold 1): partitions that depend on timings
+// change no bit, and run.json reports the weights in use.
+TEST(MpiRuns, WeightsFromMeasuredCostChangeNoBit) {
+  expect_bitwise("cost_weights", pipeline("dam_break_2d_paper.json"), "--set time.end=0.02 --set output.every=0.01", {3},
+                 "--set parallel.weights.mode=\\\"cost\\\" --set parallel.rebalance_check_every=10 "
+                 "--set parallel.rebalance_threshold=1");
+  const auto j = nlohmann::json::parse(read_text(binary_dir() / "test_scratch" / "mpi_cost_weights" / "ranks3" / "run.json"));
+  const auto& w = j.at("parallel").at("weights");
+  EXPECT_EQ(w.at("mode").get<std::string>(), "cost");
+  EXPECT_GE(w.at("fits").get<long>(), 1);  // the paper scene's ranks hold different mixes of fluid and walls
+  EXPECT_EQ(w.at("fluid").get<int>(), 64);
+  EXPECT_GE(w.at("boundary").get<int>(), 0);
+  EXPECT_LE(w.at("boundary").get<int>(), 256);
+  EXPECT_GE(j.at("parallel").at("repartitions").get<long>(), 2);
+}
+
 // The halo refresh overlapped with the interior sweep (parallel/halo_rates.hpp): on by default, off with
 // VARSPH_HALO_OVERLAP=off; both bitwise equal to one process, with dummy walls (wall update pass) and XSPH
 // split too. run.json says how many refreshes were overlapped and how many particles are interior.

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "parallel/all_in_one_communicator.hpp"
+#include "parallel/cost_fit.hpp"
 #include "parallel/partition.hpp"
 
 namespace varsph::parallel {
@@ -100,6 +101,50 @@ TEST(Partition, TooFewCellsForTheRanksIsRefused) {
   AllInOneCommunicator comm(5);
   const std::array<std::int64_t, 2> dims{2, 2};
   EXPECT_THROW(Partition<2>::build(comm, dims, {}, {}), std::invalid_argument);
+}
+
+// Partition weights from measured cost (parallel/cost_fit.hpp): busy times B_r = c_f F_r + c_w W_r over
+// ranks of different mixes give back c_w / c_f; ranks whose mixes are proportional give nothing.
+TEST(CostFit, RecoversTheWallToFluidCostRatioFromTheRanksBusyTimes) {
+  // a dam break on 4 ranks: the column's rank, two with some fluid, one with walls only (2.5 us per
+  // fluid particle, 0.6 us per wall particle: ratio 0.24)
+  const std::vector<double> F = {9000, 4000, 1500, 0}, W = {800, 1500, 2500, 4000};
+  std::vector<double> B(4);
+  for (std::size_t r = 0; r < 4; ++r) B[r] = 2.5e-6 * F[r] + 0.6e-6 * W[r];
+  CostFit fit;
+  fit.add(B, F, W);
+  ASSERT_TRUE(fit.boundary_over_fluid());
+  EXPECT_NEAR(*fit.boundary_over_fluid(), 0.24, 1e-12);
+  EXPECT_EQ(*fit.boundary_weight(), 15);  // round(64 x 0.24)
+  // with 10 % noise on each rank's time the ratio is still within 0.1 of it
+  const std::vector<double> noisy = {B[0] * 1.1, B[1] * 0.9, B[2] * 1.1, B[3] * 0.9};
+  CostFit rough;
+  rough.add(noisy, F, W);
+  EXPECT_NEAR(*rough.boundary_over_fluid(), 0.24, 0.1);
+}
+
+TEST(CostFit, ProportionalMixesOrOneRankKeepTheWeights) {
+  CostFit same;  // every rank holds fluid and walls in the same proportion: c_f and c_w not separable
+  same.add(std::vector<double>{3.0, 6.0}, std::vector<double>{1000, 2000}, std::vector<double>{200, 400});
+  EXPECT_FALSE(same.boundary_weight());
+  CostFit one;
+  one.add(std::vector<double>{3.0}, std::vector<double>{1000}, std::vector<double>{200});
+  EXPECT_FALSE(one.boundary_weight());
+  CostFit none;
+  EXPECT_FALSE(none.boundary_weight());
+}
+
+TEST(CostFit, RecentChecksCountMostAndTheRatioIsBounded) {
+  const std::vector<double> F = {1000, 0}, W = {0, 1000};
+  CostFit fit;
+  fit.add(std::vector<double>{1.0, 0.2}, F, W);  // walls 0.2 x fluid
+  for (int k = 0; k < 10; ++k) fit.add(std::vector<double>{1.0, 0.6}, F, W);  // then 0.6 x (the load moved)
+  EXPECT_NEAR(*fit.boundary_over_fluid(), 0.6, 1e-3);
+  CostFit odd;  // walls "cheaper than free" (timing noise): clamped to 0; "dearer than 4 fluid": to 4
+  odd.add(std::vector<double>{1.0, -0.1}, F, W);
+  EXPECT_EQ(*odd.boundary_over_fluid(), 0.0);
+  odd.add(std::vector<double>{1.0, 50.0}, F, W);
+  EXPECT_EQ(*odd.boundary_over_fluid(), 4.0);
 }
 
 }  // namespace
