@@ -2,8 +2,8 @@
 # A long fuzzing campaign of one harness (issue 16; docs/reliability.md, "Fuzzing"):
 #   bash fuzz/campaign.sh TARGET RUNS
 # TARGET is a harness name without "fuzz_" (scene, checkpoint, stl, stl_read, ..., poly2d). It fuzzes
-# build/fuzz-ubsan/fuzz_TARGET (UndefinedBehaviorSanitizer alone: about twice the inputs per second of
-# ASan+UBSan) for RUNS executions from the persistent corpus runs/fuzz/corpus/TARGET, then replays the
+# build/fuzz-ubsan/fuzz_TARGET (UndefinedBehaviorSanitizer alone: 1.2-1.6 x the inputs per second of
+# ASan + UBSan) for RUNS executions from the persistent corpus runs/fuzz/corpus/TARGET, then replays the
 # whole corpus once under ASan+UBSan (build/fuzz), so every input kept was also seen by ASan. The first
 # use seeds the corpus from fuzz/make_corpus.py. Crashers land in runs/fuzz/artifacts/ (keep them as
 # fuzz/regressions/). One line per campaign is appended to runs/fuzz/campaign.log: UTC end, target,

@@ -19,6 +19,13 @@ bool mpi_compiled() {
 
 bool launched_by_mpi() {
   if (const char* v = std::getenv("VARSPH_MPI")) return std::strcmp(v, "0") != 0;
+  // A child of an Open MPI singleton was not started by a launcher: pvpython and pvbatch initialise MPI
+  // as singletons and pass PMIX_RANK with OMPI_MCA_ess=singleton to every program they run (varsph
+  // paraview, the bundled pvpython scripts), whereas mpirun sets OMPI_MCA_ess=^singleton and
+  // OMPI_COMM_WORLD_SIZE.
+  if (const char* ess = std::getenv("OMPI_MCA_ess");
+      ess && std::strcmp(ess, "singleton") == 0 && !std::getenv("OMPI_COMM_WORLD_SIZE"))
+    return false;
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "MPI_LOCALNRANKS",
                            "MV2_COMM_WORLD_SIZE"})
     if (std::getenv(name)) return true;

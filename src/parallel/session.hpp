@@ -33,7 +33,7 @@ class Session {
 // True when the build has MPI support compiled in (CMake found MPI, VARSPH_MPI not OFF).
 bool mpi_compiled();
 // True when an MPI launcher started this process (environment variables of OpenMPI, MPICH/Hydra, PMIx,
-// Slurm's PMI) or VARSPH_MPI=1.
+// Slurm's PMI) or VARSPH_MPI=1; false for a child of an Open MPI singleton (a program pvpython runs).
 bool launched_by_mpi();
 // The number of processes the launcher started (OMPI_COMM_WORLD_SIZE, PMI_SIZE, MV2_COMM_WORLD_SIZE,
 // SLURM_STEP_NUM_TASKS), 0 when none of them is set or readable.

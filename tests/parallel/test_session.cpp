@@ -14,7 +14,8 @@ namespace {
 
 void clear_launcher_env() {
   for (const char* n : {"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "PMI_SIZE",
-                        "MPI_LOCALNRANKS", "MV2_COMM_WORLD_SIZE", "SLURM_STEP_NUM_TASKS", "VARSPH_MPI"})
+                        "MPI_LOCALNRANKS", "MV2_COMM_WORLD_SIZE", "SLURM_STEP_NUM_TASKS", "VARSPH_MPI",
+                        "OMPI_MCA_ess"})
     unsetenv(n);
 }
 
@@ -40,6 +41,24 @@ TEST(SessionWithoutMpi, ReadsTheLaunchersProcessCount) {
   EXPECT_EQ(launcher_world_size(), 4);
   setenv("OMPI_COMM_WORLD_SIZE", "four", 1);  // unreadable: the next one
   EXPECT_EQ(launcher_world_size(), 6);
+  clear_launcher_env();
+}
+
+// The environments measured on Debian 12's Open MPI 4.1: `mpirun -n 1` gives PMIX_RANK=0,
+// OMPI_COMM_WORLD_SIZE=1 and OMPI_MCA_ess=^singleton; a program started by pvpython (an Open MPI
+// singleton) inherits PMIX_RANK=0 and OMPI_MCA_ess=singleton, and no OMPI_COMM_WORLD_SIZE.
+TEST(SessionWithoutMpi, AChildOfAnMpiSingletonWasNotLaunchedByMpi) {
+  clear_launcher_env();
+  EXPECT_FALSE(launched_by_mpi());
+  setenv("PMIX_RANK", "0", 1);
+  EXPECT_TRUE(launched_by_mpi());  // PMIx alone (another launcher): launched
+  setenv("OMPI_MCA_ess", "singleton", 1);
+  EXPECT_FALSE(launched_by_mpi());  // pvpython's child
+  setenv("OMPI_MCA_ess", "^singleton", 1);
+  setenv("OMPI_COMM_WORLD_SIZE", "1", 1);
+  EXPECT_TRUE(launched_by_mpi());  // mpirun -n 1
+  setenv("OMPI_MCA_ess", "singleton", 1);
+  EXPECT_TRUE(launched_by_mpi());  // a launcher's world size wins
   clear_launcher_env();
 }
 
