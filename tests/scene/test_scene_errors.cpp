@@ -68,6 +68,9 @@ TEST(SceneErrors, EachMalformedInputNamesItsKey) {
        "'physics.density'"},
       {"verlet_dsph euler_every", [](json& j) { j["integrator"]["type"] = "verlet_dsph"; j["integrator"]["euler_every"] = 0; },
        {}, "'integrator.euler_every'"},
+      {"verlet_dsph with riemann",
+       [](json& j) { j["integrator"]["type"] = "verlet_dsph"; j["physics"] = {{"density", "continuity"}, {"riemann", json::object()}}; },
+       {}, "'physics.riemann'"},
   };
   for (const auto& c : cases) {
     json j = base_scene();
