@@ -337,9 +337,8 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.rebalance_every = r.integer("parallel.rebalance_every", 0, 0, 1000000000000L);
   s.fluid_weight = int(r.integer("parallel.weights.fluid", 4, 1, 1000000));
   s.boundary_weight = int(r.integer("parallel.weights.boundary", 1, 0, 1000000));
-  // "cost": refit the weights from the ranks' busy times at every balance check (parallel/cost_fit.hpp);
-  // read back from `resolved` by Simulation (the value recorded there)
-  r.choice("parallel.weights.mode", "count", {"count", "cost"});
+  // "cost": refit the weights from the ranks' busy times at every balance check (parallel/cost_fit.hpp)
+  s.weights_by_cost = r.choice("parallel.weights.mode", "count", {"count", "cost"}) == "cost";
   // where the steps run (docs/gpu.md): the OpenMP host loops, a CUDA device, or the CUDA backend's
   // loops through a host launch (tests, debugging)
   s.device = r.choice("execution.device", "cpu", {"cpu", "cuda", "cuda_emulation"});

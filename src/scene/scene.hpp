@@ -142,6 +142,7 @@ struct Scene {
   long rebalance_every = 0;           // parallel.rebalance_every [steps]: repartition regardless, 0 = off
   int fluid_weight = 4;               // parallel.weights.fluid: partition weight of a fluid particle
   int boundary_weight = 1;            // parallel.weights.boundary
+  bool weights_by_cost = false;       // parallel.weights.mode = "cost" (parallel/cost_fit.hpp)
   std::string device = "cpu";  // execution.device: cpu | cuda | cuda_emulation (docs/gpu.md)
 };
 

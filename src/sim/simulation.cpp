@@ -151,7 +151,7 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     o.threshold = scene.rebalance_threshold;
     o.check_every = scene.rebalance_check_every;
     o.force_every = scene.rebalance_every;
-    o.weights_by_cost = scene.resolved.value(nlohmann::json::json_pointer("/parallel/weights/mode"), "count") == "cost";
+    o.weights_by_cost = scene.weights_by_cost;
     domain_ = std::make_unique<parallel::Domain<D>>(comm_, o);
     domain_->attach(store_, {"position", "velocity", "density", "pressure", "mass", "kind", "id", "normal", "body",
                              "wall_velocity"});
