@@ -2,6 +2,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/IO/polygon_soup_io.h>
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -20,6 +21,7 @@
 #include <sstream>
 
 #include "detail/input_checks.h"
+#include "detail/polygon_outline.h"
 #include "varsph/geometry/geometry_error.h"
 
 namespace varsph::geometry {
@@ -165,6 +167,26 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
     if (before[i] != fpolys[i]) ++flipped;
   Mesh mesh;
   PMP::polygon_soup_to_polygon_mesh(upts, fpolys, mesh);
+  // a polygon outline that crosses itself is refused before CGAL's triangulation sees it (where it could
+  // loop without end: detail/polygon_outline.h)
+  std::size_t pair_budget = detail::kOutlinePairBudget;
+  for (auto f : mesh.faces()) {
+    if (mesh.degree(f) <= 4) continue;  // CGAL splits quads along a diagonal, without a triangulation
+    const K::Vector_3 normal = PMP::compute_face_normal(f, mesh);  // what CGAL projects along
+    if (normal == K::Vector_3(0, 0, 0)) continue;                  // CGAL refuses it: the message below
+    std::vector<Point> corners;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) corners.push_back(mesh.point(v));
+    const auto outline = detail::check_outline(corners, normal, pair_budget);
+    if (outline == detail::Outline::simple) continue;
+    std::ostringstream where;
+    where << "a polygon face of " << corners.size() << " corners (the first at " << corners[0] << ")";
+    if (outline == detail::Outline::crosses)
+      throw GeometryError(path, where.str() + " has two edges that cross each other; expected triangles or "
+                                              "simple planar polygons");
+    throw GeometryError(path, "the polygon faces' edges overlap in more than " +
+                                  std::to_string(detail::kOutlinePairBudget) + " pairs (at " + where.str() +
+                                  "); expected triangles or simple planar polygons");
+  }
   // a polygon CGAL cannot split (degenerate or non-simple) stays a polygon: refused, since everything
   // below reads three corners per face (a fuzzed 6-corner OBJ face overflowed out.F before this check)
   if (!CGAL::is_triangle_mesh(mesh) && (!PMP::triangulate_faces(mesh) || !CGAL::is_triangle_mesh(mesh)))

@@ -185,3 +185,64 @@ TEST(Hostile, EstimateCountsLayersAndVolume) {
   r.clip_max = Eigen::Vector3d(1, 1, 0.5);  // only half the cube is filled
   EXPECT_EQ(error_of(r), "");
 }
+
+namespace {
+
+// A prism over a polygon with n corners (z = 0 and 1): two n-corner caps, n quads. `cap` lists the
+// bottom cap's corners in the order the face gives them (the top cap is the simple outline reversed).
+void write_prism_obj(const std::filesystem::path& p, const std::vector<std::array<double, 2>>& xy,
+                     const std::vector<int>& cap) {
+  std::ofstream o(p);
+  o.precision(17);
+  const int n = int(xy.size());
+  for (int z = 0; z < 2; ++z)
+    for (const auto& c : xy) o << "v " << c[0] << " " << c[1] << " " << z << "\n";
+  o << "f";
+  for (int i : cap) o << " " << i + 1;
+  o << "\nf";
+  for (int i = n - 1; i >= 0; --i) o << " " << n + i + 1;
+  o << "\n";
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    o << "f " << i + 1 << " " << n + i + 1 << " " << n + j + 1 << " " << j + 1 << "\n";
+  }
+}
+
+}  // namespace
+
+// A fuzzed OBJ hexagon whose edges cross (fuzz/regressions/obj/refused_fuzz_outline_crosses_itself_hang.obj)
+// kept CGAL's triangulate_faces busy for more than 290 s; such a face is refused before it
+// (geometry/src/detail/polygon_outline.h), while simple polygons, convex or not, are still split.
+TEST(Hostile, PolygonFaceWhoseEdgesCrossIsRefused) {
+  const auto dir = vt::temp_dir();
+  std::vector<std::array<double, 2>> hexagon;
+  for (int i = 0; i < 6; ++i) hexagon.push_back({std::cos(i * M_PI / 3), std::sin(i * M_PI / 3)});
+  write_prism_obj(dir / "hexagon.obj", hexagon, {5, 4, 3, 2, 1, 0});
+  EXPECT_EQ(error_of(surface(dir / "hexagon.obj", 0.1)), "");
+  // an arrow: not convex, still simple
+  const std::vector<std::array<double, 2>> arrow{{0, 0}, {2, 0}, {2, -0.5}, {3, 0.5}, {2, 1.5}, {2, 1}, {0, 1}};
+  write_prism_obj(dir / "arrow.obj", arrow, {6, 5, 4, 3, 2, 1, 0});
+  EXPECT_EQ(error_of(surface(dir / "arrow.obj", 0.1)), "");
+  // the hexagon's bottom cap with two corners swapped: edges 5-3 and 4-2 cross
+  write_prism_obj(dir / "crossed.obj", hexagon, {5, 3, 4, 2, 1, 0});
+  const std::string m = error_of(surface(dir / "crossed.obj", 0.1));
+  EXPECT_NE(m.find("crossed.obj: a polygon face of 6 corners (the first at "), std::string::npos) << m;
+  EXPECT_NE(m.find("has two edges that cross each other; expected triangles or simple planar polygons"),
+            std::string::npos) << m;
+}
+
+// A simple sawtooth outline whose every edge spans the whole width: all pairs of edges overlap, so the
+// check would cost corners^2 / 2 predicate calls; it stops at its budget and refuses the file instead.
+TEST(Hostile, PolygonFaceTooEntangledToCheckIsRefused) {
+  const auto dir = vt::temp_dir();
+  std::vector<std::array<double, 2>> saw;
+  const int teeth = 2000;  // (2 teeth)^2 / 2 = 8e6 pairs
+  for (int i = 0; i <= 2 * teeth; ++i) saw.push_back({1e-3 * i, double(i % 2)});
+  saw.push_back({1e-3 * 2 * teeth, -1.0});
+  saw.push_back({0.0, -1.0});
+  std::vector<int> cap;
+  for (int i = int(saw.size()) - 1; i >= 0; --i) cap.push_back(i);
+  write_prism_obj(dir / "saw.obj", saw, cap);
+  const std::string m = error_of(surface(dir / "saw.obj", 0.5));
+  EXPECT_NE(m.find("saw.obj: the polygon faces' edges overlap in more than 5000000 pairs"), std::string::npos) << m;
+}
