@@ -198,6 +198,11 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
     mesh.collect_garbage();
     degenerate += nf - mesh.number_of_faces();
   }
+  // CGAL's repair assumes a valid triangle mesh and can leave a polygon behind when the soup was not one
+  // (a fuzzed OBJ: a 4-corner face after it overflowed out.F below)
+  if (!mesh.is_valid(false) || !CGAL::is_triangle_mesh(mesh))
+    throw GeometryError(path, "removing its degenerate faces left a face that is not a triangle (faces folded onto "
+                              "each other?); expected a surface of non-degenerate triangles or simple polygons");
   if (degenerate > 0)
     notes.push_back(path.string() + ": removed " + std::to_string(degenerate) + " degenerate faces");
   if (mesh.number_of_faces() == 0) throw GeometryError(path, "mesh has no non-degenerate face");
@@ -254,7 +259,10 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
   i = 0;
   for (auto f : mesh.faces()) {
     int c = 0;
-    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) out.F(i, c++) = vid[v];
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      if (c == 3) throw GeometryError(path, "a face has more than three corners after the repairs; expected triangles");
+      out.F(i, c++) = vid[v];
+    }
     ++i;
   }
   canonical_order(out.V, out.F);

@@ -246,3 +246,16 @@ TEST(Hostile, PolygonFaceTooEntangledToCheckIsRefused) {
   const std::string m = error_of(surface(dir / "saw.obj", 0.5));
   EXPECT_NE(m.find("saw.obj: the polygon faces' edges overlap in more than 5000000 pairs"), std::string::npos) << m;
 }
+
+// A fuzzed OBJ (fuzz/regressions/obj/refused_fuzz_polygon_left_by_degenerate_repair.obj) after which
+// CGAL's removal of degenerate faces left a 4-corner face: copying it as a triangle overflowed the face
+// array (heap corruption under ASan, SIGSEGV in `varsph sample`). The repaired mesh is checked again.
+TEST(Hostile, PolygonLeftByTheDegenerateFaceRepairIsRefused) {
+  const auto dir = vt::temp_dir();
+  std::filesystem::copy_file(std::filesystem::path(VARSPH_SOURCE_DIR) / "fuzz" / "regressions" / "obj" /
+                                 "refused_fuzz_polygon_left_by_degenerate_repair.obj",
+                             dir / "folded.obj");
+  const std::string m = error_of(surface(dir / "folded.obj", 0.25));
+  EXPECT_NE(m.find("folded.obj: removing its degenerate faces left a face that is not a triangle"), std::string::npos)
+      << m;
+}
