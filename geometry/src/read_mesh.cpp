@@ -9,6 +9,7 @@
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Surface_mesh.h>
@@ -159,6 +160,9 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
   if (fpolys.empty()) throw GeometryError(path, "mesh has no non-degenerate face");
   if (duplicate > 0)
     notes.push_back(path.string() + ": removed " + std::to_string(duplicate) + " duplicated faces");
+  // vertices no face uses: CGAL's mesh repairs require a valid polygon mesh, where every vertex has an edge
+  if (const std::size_t unused = PMP::remove_isolated_points_in_polygon_soup(upts, fpolys); unused > 0)
+    notes.push_back(path.string() + ": ignored " + std::to_string(unused) + " vertices that no face uses");
   const auto before = fpolys;
   if (!PMP::orient_polygon_soup(upts, fpolys))
     notes.push_back(path.string() + ": non-manifold vertices were duplicated to orient the faces");
@@ -167,8 +171,12 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
     if (before[i] != fpolys[i]) ++flipped;
   Mesh mesh;
   PMP::polygon_soup_to_polygon_mesh(upts, fpolys, mesh);
-  // a polygon outline that crosses itself is refused before CGAL's triangulation sees it (where it could
-  // loop without end: detail/polygon_outline.h)
+  // what CGAL's repairs and triangulation take as a precondition (checked only in its debug builds)
+  if (!CGAL::is_valid_polygon_mesh(mesh))
+    throw GeometryError(path, "its faces do not form a valid surface after orientation (faces folded onto each "
+                              "other?); expected a surface of triangles or simple polygons");
+  // a polygon outline that is not simple is refused before CGAL's triangulation sees it (where it could
+  // loop without end or break the mesh: detail/polygon_outline.h)
   std::size_t pair_budget = detail::kOutlinePairBudget;
   for (auto f : mesh.faces()) {
     if (mesh.degree(f) <= 4) continue;  // CGAL splits quads along a diagonal, without a triangulation
@@ -180,9 +188,10 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
     if (outline == detail::Outline::simple) continue;
     std::ostringstream where;
     where << "a polygon face of " << corners.size() << " corners (the first at " << corners[0] << ")";
-    if (outline == detail::Outline::crosses)
-      throw GeometryError(path, where.str() + " has two edges that cross each other; expected triangles or "
-                                              "simple planar polygons");
+    if (outline == detail::Outline::not_simple)
+      throw GeometryError(path, where.str() + " is not a simple polygon seen along its normal (edges that cross "
+                                              "or touch, or an outline turning back on itself); expected "
+                                              "triangles or simple planar polygons");
     throw GeometryError(path, "the polygon faces' edges overlap in more than " +
                                   std::to_string(detail::kOutlinePairBudget) + " pairs (at " + where.str() +
                                   "); expected triangles or simple planar polygons");
@@ -192,6 +201,9 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
   if (!CGAL::is_triangle_mesh(mesh) && (!PMP::triangulate_faces(mesh) || !CGAL::is_triangle_mesh(mesh)))
     throw GeometryError(path, "a polygon face cannot be split into triangles (degenerate or self-intersecting "
                               "polygon?); expected triangles or simple planar polygons");
+  if (!CGAL::is_valid_polygon_mesh(mesh))  // the precondition of the repair below
+    throw GeometryError(path, "splitting its polygon faces into triangles did not give a valid surface; expected "
+                              "triangles or simple planar polygons");
   {
     const std::size_t nf = mesh.number_of_faces();
     PMP::remove_degenerate_faces(mesh);
@@ -200,7 +212,7 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const Eigen::Matrix4d&
   }
   // CGAL's repair assumes a valid triangle mesh and can leave a polygon behind when the soup was not one
   // (a fuzzed OBJ: a 4-corner face after it overflowed out.F below)
-  if (!mesh.is_valid(false) || !CGAL::is_triangle_mesh(mesh))
+  if (!CGAL::is_valid_polygon_mesh(mesh) || !CGAL::is_triangle_mesh(mesh))
     throw GeometryError(path, "removing its degenerate faces left a face that is not a triangle (faces folded onto "
                               "each other?); expected a surface of non-degenerate triangles or simple polygons");
   if (degenerate > 0)

@@ -123,6 +123,16 @@ TEST(Hostile, DeclaredCountsBeyondTheFileSize) {
   EXPECT_NE(error_of(surface(dir / "list.ply")).find("declares a list of 2000000000"), std::string::npos);
   std::ofstream(dir / "short.ply") << head;  // the face is missing
   EXPECT_NE(error_of(surface(dir / "short.ply")).find("PLY data ends inside 'face' element 0"), std::string::npos);
+  // CGAL doubles the (unused) edge count in an int: a fuzzed binary OFF overflowed it
+  std::ofstream(dir / "edges.off") << "OFF\n3 1 1627389951\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  EXPECT_NE(error_of(surface(dir / "edges.off")).find("OFF header declares 1627389951 edges; expected 0 to"),
+            std::string::npos);
+  // CGAL reads vertex coordinates as float or double only (a fuzzed uint32 x: a call through null)
+  std::ofstream(dir / "intx.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty uint32 x\nproperty float y\n"
+                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                     "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  EXPECT_NE(error_of(surface(dir / "intx.ply")).find("PLY vertex property 'x' has type 'uint32'; expected float"),
+            std::string::npos) << error_of(surface(dir / "intx.ply"));
   std::ofstream(dir / "count.ply") << "ply\nformat ascii 1.0\nelement vertex 9999999999\nproperty float x\nend_header\n";
   EXPECT_NE(error_of(surface(dir / "count.ply")).find("declares 9999999999 'vertex' elements"), std::string::npos);
   // a truncated binary STL: the header's count no longer fits
@@ -211,8 +221,9 @@ void write_prism_obj(const std::filesystem::path& p, const std::vector<std::arra
 }  // namespace
 
 // A fuzzed OBJ hexagon whose edges cross (fuzz/regressions/obj/refused_fuzz_outline_crosses_itself_hang.obj)
-// kept CGAL's triangulate_faces busy for more than 290 s; such a face is refused before it
-// (geometry/src/detail/polygon_outline.h), while simple polygons, convex or not, are still split.
+// kept CGAL's triangulate_faces busy for more than 290 s; such a face, and one that touches itself or
+// turns back on itself, is refused before it (geometry/src/detail/polygon_outline.h), while simple
+// polygons, convex or not, are still split.
 TEST(Hostile, PolygonFaceWhoseEdgesCrossIsRefused) {
   const auto dir = vt::temp_dir();
   std::vector<std::array<double, 2>> hexagon;
@@ -227,8 +238,19 @@ TEST(Hostile, PolygonFaceWhoseEdgesCrossIsRefused) {
   write_prism_obj(dir / "crossed.obj", hexagon, {5, 3, 4, 2, 1, 0});
   const std::string m = error_of(surface(dir / "crossed.obj", 0.1));
   EXPECT_NE(m.find("crossed.obj: a polygon face of 6 corners (the first at "), std::string::npos) << m;
-  EXPECT_NE(m.find("has two edges that cross each other; expected triangles or simple planar polygons"),
-            std::string::npos) << m;
+  EXPECT_NE(m.find("is not a simple polygon seen along its normal"), std::string::npos) << m;
+  // touching: two triangles' worth of outline whose corner (1, 0) lies on the edge (0, 0)-(2, 0)
+  const std::vector<std::array<double, 2>> touching{{0, 0}, {2, 0}, {2, 2}, {1, 0}, {0, 2}};
+  write_prism_obj(dir / "touching.obj", touching, {4, 3, 2, 1, 0});
+  EXPECT_NE(error_of(surface(dir / "touching.obj", 0.1)).find("is not a simple polygon"), std::string::npos);
+  // turning back: the fuzzed pentagon's pattern, a corner that walks back along the edge it came by
+  const std::vector<std::array<double, 2>> folded{{0, 0}, {2, 0}, {1, 0}, {2, 1}, {0, 1}};
+  write_prism_obj(dir / "folded.obj", folded, {4, 3, 2, 1, 0});
+  EXPECT_NE(error_of(surface(dir / "folded.obj", 0.1)).find("is not a simple polygon"), std::string::npos);
+  // a corner in the middle of a straight side (a T-junction of a CAD export) is simple
+  const std::vector<std::array<double, 2>> straight{{0, 0}, {1, 0}, {2, 0}, {2, 1}, {1, 1}, {0, 1}};
+  write_prism_obj(dir / "straight.obj", straight, {5, 4, 3, 2, 1, 0});
+  EXPECT_EQ(error_of(surface(dir / "straight.obj", 0.1)), "");
 }
 
 // A simple sawtooth outline whose every edge spans the whole width: all pairs of edges overlap, so the
@@ -247,15 +269,18 @@ TEST(Hostile, PolygonFaceTooEntangledToCheckIsRefused) {
   EXPECT_NE(m.find("saw.obj: the polygon faces' edges overlap in more than 5000000 pairs"), std::string::npos) << m;
 }
 
-// A fuzzed OBJ (fuzz/regressions/obj/refused_fuzz_polygon_left_by_degenerate_repair.obj) after which
-// CGAL's removal of degenerate faces left a 4-corner face: copying it as a triangle overflowed the face
-// array (heap corruption under ASan, SIGSEGV in `varsph sample`). The repaired mesh is checked again.
-TEST(Hostile, PolygonLeftByTheDegenerateFaceRepairIsRefused) {
+// A fuzzed OBJ (fuzz/regressions/obj/refused_fuzz_polygon_turning_back_broke_the_mesh.obj) with a
+// pentagon whose outline walks back along itself (two corners 1 ulp apart): CGAL split it into triangles
+// that no longer formed a valid mesh, its repair of degenerate faces then left a 4-corner face, and
+// copying that as a triangle overflowed the face array (heap corruption under ASan, SIGSEGV in
+// `varsph sample`). The outline is refused before CGAL's triangulation; the mesh is also checked to be
+// valid after each of CGAL's steps.
+TEST(Hostile, PolygonTurningBackOnItselfIsRefusedBeforeItBreaksTheMesh) {
   const auto dir = vt::temp_dir();
   std::filesystem::copy_file(std::filesystem::path(VARSPH_SOURCE_DIR) / "fuzz" / "regressions" / "obj" /
-                                 "refused_fuzz_polygon_left_by_degenerate_repair.obj",
+                                 "refused_fuzz_polygon_turning_back_broke_the_mesh.obj",
                              dir / "folded.obj");
   const std::string m = error_of(surface(dir / "folded.obj", 0.25));
-  EXPECT_NE(m.find("folded.obj: removing its degenerate faces left a face that is not a triangle"), std::string::npos)
-      << m;
+  EXPECT_NE(m.find("folded.obj: a polygon face of 5 corners (the first at 3.22 1 0.55) is not a simple polygon"),
+            std::string::npos) << m;
 }

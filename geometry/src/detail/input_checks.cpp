@@ -107,6 +107,13 @@ void check_off(const std::filesystem::path& path, std::uintmax_t size) {
   const bool ndim = flags.find('n') != std::string::npos;
   c.skip_comments();
   long long nv = 0, nf = 0, ne = 0;
+  // the edge count is not used, but CGAL doubles it in an int (a fuzzed binary OFF declared 1627389951:
+  // signed overflow); a file cannot list more edges than it has bytes
+  auto check_edge_count = [&](long long n) {
+    if (n < 0 || double(n) > std::min(double(size), 1073741823.0))
+      bad("OFF header declares " + std::to_string(n) + " edges; expected 0 to " +
+          std::to_string(std::min<std::uintmax_t>(size, 1073741823u)) + " (at most the file's size in bytes)");
+  };
   if (c.p < data.size() && !std::isdigit(static_cast<unsigned char>(data[c.p])) && data[c.p] != '-') {
     // "OFF BINARY": big-endian int32 [dim] nv nf ne after the end of that line
     if (data.compare(c.p, 6, "BINARY") != 0) return;
@@ -123,6 +130,7 @@ void check_off(const std::filesystem::path& path, std::uintmax_t size) {
       return true;
     };
     if (!i32(nv) || !i32(nf) || !i32(ne)) return;
+    check_edge_count(ne);
     if (nv < 0 || nf < 0 || 12.0 * double(nv) + 4.0 * double(nf) > double(size - q))
       bad("binary OFF header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
           " faces, more than a file of " + std::to_string(size) + " bytes can hold");
@@ -139,6 +147,7 @@ void check_off(const std::filesystem::path& path, std::uintmax_t size) {
   }
   if (ndim && !c.read_int(nv)) return;  // nOFF: the dimension first
   if (!c.read_int(nv) || !c.read_int(nf) || !c.read_int(ne)) return;
+  check_edge_count(ne);
   if (nv < 0 || nf < 0)
     bad("OFF header declares negative vertex or face counts (" + std::to_string(nv) + " " + std::to_string(nf) + ")");
   // each vertex line takes at least 6 bytes ("0 0 0\n"), each face at least 2
@@ -180,6 +189,7 @@ struct PlyProperty {
   int count_bytes = 0, value_bytes = 0;
   bool value_float = false;  // float/double values (CGAL reads them differently from integers in ASCII)
   double count_max = 0;      // the largest count its type holds
+  std::string type, name;
 };
 
 bool ply_float_type(const std::string& t) { return t == "float" || t == "float32" || t == "double" || t == "float64"; }
@@ -262,6 +272,14 @@ void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
         p.value_float = ply_float_type(t);
       }
       if (p.value_bytes == 0) bad("PLY property type '" + (p.list ? line : t) + "' is not a PLY type");
+      p.type = t;
+      ls >> p.name;
+      // CGAL reads a vertex coordinate as a double or a float and nothing else (a fuzzed 'property uint32
+      // x' made its reader call through a null pointer)
+      if (elements.back().name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z") &&
+          (p.list || !p.value_float))
+        bad("PLY vertex property '" + p.name + "' has type '" + (p.list ? line : t) +
+            "'; expected float, float32, double or float64");
       elements.back().props.push_back(p);
     }
   }

@@ -39,23 +39,41 @@ Outline check_outline(const std::vector<OutlineKernel::Point_3>& corners, const 
   auto hi = [&](std::size_t e) { return std::max(s[e], s[(e + 1) % n]) + pad; };
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return lo(a) < lo(b); });
 
-  auto cross = [&](std::size_t a, std::size_t b) {  // edges a and b properly cross
+  // in the projection: r on the closed segment [p, q], given that the three are collinear (CGAL's exact
+  // lexicographic order along its projection axes orders collinear points along their line)
+  const auto less_xy = CGAL::Projection_traits_3<K>(normal).less_xy_2_object();
+  auto within = [&](const K::Point_3& p, const K::Point_3& q, const K::Point_3& r) {
+    const bool pq = less_xy(p, q);
+    const K::Point_3& lo_p = pq ? p : q;
+    const K::Point_3& hi_p = pq ? q : p;
+    return !less_xy(r, lo_p) && !less_xy(hi_p, r);
+  };
+  // two edges a, b that are not neighbours meet anywhere, crossing or touching
+  auto meet = [&](std::size_t a, std::size_t b) {
     const auto &p = corners[a], &q = corners[(a + 1) % n], &r = corners[b], &t = corners[(b + 1) % n];
     const int o1 = int(orient(p, q, r)), o2 = int(orient(p, q, t));
-    if (o1 * o2 >= 0) return false;
-    return int(orient(r, t, p)) * int(orient(r, t, q)) < 0;
+    const int o3 = int(orient(r, t, p)), o4 = int(orient(r, t, q));
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+    return (o1 == 0 && within(p, q, r)) || (o2 == 0 && within(p, q, t)) || (o3 == 0 && within(r, t, p)) ||
+           (o4 == 0 && within(r, t, q));
   };
+  // neighbours share corner b: they overlap beyond it when the outline turns back on itself at b
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto &a = corners[i], &b = corners[(i + 1) % n], &c = corners[(i + 2) % n];
+    if (!less_xy(a, b) && !less_xy(b, a)) return Outline::not_simple;  // an edge of no length in the projection
+    if (orient(a, b, c) == CGAL::COLLINEAR && less_xy(b, a) == less_xy(b, c)) return Outline::not_simple;
+  }
   std::vector<std::size_t> active;
   for (std::size_t e : order) {
     const double start = lo(e);
     active.erase(std::remove_if(active.begin(), active.end(), [&](std::size_t a) { return hi(a) < start; }),
                  active.end());
     for (std::size_t a : active) {
-      const bool adjacent = (a + 1) % n == e || (e + 1) % n == a;  // share a corner: CDT needs no construction
+      const bool adjacent = (a + 1) % n == e || (e + 1) % n == a;  // checked above
       if (adjacent) continue;
       if (budget == 0) return Outline::over_budget;
       --budget;
-      if (cross(a, e)) return Outline::crosses;
+      if (meet(a, e)) return Outline::not_simple;
     }
     active.push_back(e);
   }
