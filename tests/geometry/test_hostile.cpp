@@ -127,6 +127,15 @@ TEST(Hostile, DeclaredCountsBeyondTheFileSize) {
   std::ofstream(dir / "edges.off") << "OFF\n3 1 1627389951\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   EXPECT_NE(error_of(surface(dir / "edges.off")).find("OFF header declares 1627389951 edges; expected 0 to"),
             std::string::npos);
+  // CGAL casts a face's vertex indices to unsigned integers (a fuzzed -7: undefined behaviour)
+  std::ofstream(dir / "negative.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -7 2\n";
+  EXPECT_NE(error_of(surface(dir / "negative.off")).find("OFF face 0 has vertex index -7; expected 0 to 2"),
+            std::string::npos) << error_of(surface(dir / "negative.off"));
+  // CGAL finds the signature after white space; so does the walk (a fuzzed header had a property before
+  // any element behind a tab-indented "ply": CGAL took back() of no elements)
+  std::ofstream(dir / "indented.ply") << "\t ply\nformat ascii 1.0\nproperty float x\nelement vertex 1\nend_header\n0\n";
+  EXPECT_NE(error_of(surface(dir / "indented.ply")).find("PLY header has a property line before any element line"),
+            std::string::npos) << error_of(surface(dir / "indented.ply"));
   // CGAL reads vertex coordinates as float or double only (a fuzzed uint32 x: a call through null)
   std::ofstream(dir / "intx.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty uint32 x\nproperty float y\n"
                                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"

@@ -164,21 +164,33 @@ void check_off(const std::filesystem::path& path, std::uintmax_t size) {
     if (c.p >= data.size()) return;
     std::string l = c.line();
     if (const auto h = l.find('#'); h != std::string::npos) l.resize(h);
-    // CGAL's first number: an optional sign, then the run of [0-9.eE+-], through sscanf("%lf")
+    // CGAL reads the line's numbers as doubles: an optional sign, then the run of [0-9.eE+-], through
+    // sscanf("%lf"), until one fails
     std::size_t k = 0;
-    while (k < l.size() && std::isspace(static_cast<unsigned char>(l[k]))) ++k;
     std::string num;
-    if (k < l.size() && (l[k] == '-' || l[k] == '+')) {
-      if (l[k] == '-') num += '-';
-      ++k;
-    }
-    while (k < l.size() && (std::isdigit(static_cast<unsigned char>(l[k])) || std::strchr(".eE+-", l[k]))) num += l[k++];
+    auto next = [&](double& v) {
+      while (k < l.size() && std::isspace(static_cast<unsigned char>(l[k]))) ++k;
+      num.clear();
+      if (k < l.size() && (l[k] == '-' || l[k] == '+')) {
+        if (l[k] == '-') num += '-';
+        ++k;
+      }
+      while (k < l.size() && (std::isdigit(static_cast<unsigned char>(l[k])) || std::strchr(".eE+-", l[k])))
+        num += l[k++];
+      return std::sscanf(num.c_str(), "%lf", &v) == 1;
+    };
     double n = 0;
-    if (std::sscanf(num.c_str(), "%lf", &n) != 1) return;  // CGAL fails on this face
+    if (!next(n)) return;  // CGAL fails on this face
     // a face of n corners takes at least 2n + 1 characters ("3 0 1 2")
     if (!(n >= 0 && n <= double(l.size()) / 2))
       bad("OFF face " + std::to_string(f) + " declares " + num + " vertices but its line has " +
           std::to_string(l.size()) + " characters");
+    // CGAL casts each index to an unsigned integer: a negative one (a fuzzed "-7") is undefined behaviour
+    double index = 0;
+    for (double c = 0; c < n && next(index); ++c)
+      if (!(index >= 0 && index < 9.2e18))
+        bad("OFF face " + std::to_string(f) + " has vertex index " + num + "; expected 0 to " +
+            std::to_string(nv - 1));
   }
 }
 
@@ -218,7 +230,11 @@ int ply_type_bytes(const std::string& t) {
 
 void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
   const std::string data = read_all(path);
-  if (data.compare(0, 3, "ply") != 0) return;  // CGAL reports it
+  {  // CGAL takes the first word of the first line, after any white space, as the signature
+    std::istringstream first(data.substr(0, data.find('\n')));
+    std::string signature;
+    if (!(first >> signature) || signature != "ply") return;  // CGAL reports it
+  }
   auto bad = [&](const std::string& what) {
     throw GeometryError(path, what + "; expected a PLY file whose header matches its data (truncated or damaged?)");
   };
