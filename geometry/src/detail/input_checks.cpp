@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <CGAL/IO/io.h>
+
 #include "varsph/geometry/geometry_error.h"
 
 namespace varsph::geometry::detail {
@@ -164,33 +166,27 @@ void check_off(const std::filesystem::path& path, std::uintmax_t size) {
     if (c.p >= data.size()) return;
     std::string l = c.line();
     if (const auto h = l.find('#'); h != std::string::npos) l.resize(h);
-    // CGAL reads the line's numbers as doubles: an optional sign, then the run of [0-9.eE+-], through
-    // sscanf("%lf"), until one fails
-    std::size_t k = 0;
+    // the line's numbers read exactly as CGAL reads them (IO::iformat of a double: with GCC the stream's
+    // own >>, under which "5-20000" is 5 then -20000)
+    std::istringstream iss(l);
+    std::vector<double> entries;
+    for (double d; iss >> CGAL::IO::iformat(d);) entries.push_back(d);
+    if (entries.empty()) return;  // CGAL fails on this face
     std::string num;
-    auto next = [&](double& v) {
-      while (k < l.size() && std::isspace(static_cast<unsigned char>(l[k]))) ++k;
-      num.clear();
-      if (k < l.size() && (l[k] == '-' || l[k] == '+')) {
-        if (l[k] == '-') num += '-';
-        ++k;
-      }
-      while (k < l.size() && (std::isdigit(static_cast<unsigned char>(l[k])) || std::strchr(".eE+-", l[k])))
-        num += l[k++];
-      return std::sscanf(num.c_str(), "%lf", &v) == 1;
-    };
-    double n = 0;
-    if (!next(n)) return;  // CGAL fails on this face
+    std::istringstream(l) >> num;
+    const double n = entries[0];
     // a face of n corners takes at least 2n + 1 characters ("3 0 1 2")
     if (!(n >= 0 && n <= double(l.size()) / 2))
       bad("OFF face " + std::to_string(f) + " declares " + num + " vertices but its line has " +
           std::to_string(l.size()) + " characters");
     // CGAL casts each index to an unsigned integer: a negative one (a fuzzed "-7") is undefined behaviour
-    double index = 0;
-    for (double c = 0; c < n && next(index); ++c)
-      if (!(index >= 0 && index < 9.2e18))
-        bad("OFF face " + std::to_string(f) + " has vertex index " + num + "; expected 0 to " +
+    for (std::size_t c = 1; double(c) <= n && c < entries.size(); ++c)
+      if (!(entries[c] >= 0 && entries[c] < 9.2e18)) {
+        std::ostringstream v;
+        v << entries[c];
+        bad("OFF face " + std::to_string(f) + " has vertex index " + v.str() + "; expected 0 to " +
             std::to_string(nv - 1));
+      }
   }
 }
 
@@ -303,22 +299,27 @@ void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
   const bool ascii = format == "ascii";
   if (!ascii && format != "binary_little_endian" && format != "binary_big_endian") return;  // CGAL reports it
   const bool big = format == "binary_big_endian";
-  // ASCII: the next value as CGAL reads it: integers by `>>` (an optional sign and digits), floating point
-  // by CGAL's iformat (an optional sign and the run of [0-9.eE+-] through sscanf). 0: the file ends,
-  // 1: read, 2: CGAL's read fails here (it then stops without allocating anything more)
+  // ASCII: the next value as CGAL reads it, the stream's own >> (IO::iformat is that with GCC; integers of
+  // one or two bytes through a short). 0: the file ends, 1: read, 2: CGAL's read fails here (it then stops
+  // without allocating anything more). Integers are read wider than CGAL reads them: where CGAL fails on
+  // an overflow the walk goes on, so it can only refuse more.
+  const std::size_t body = std::min(pos, data.size());
+  std::istringstream values(ascii ? data.substr(body) : std::string());
+  auto remaining = [&]() -> double {  // bytes after the walk's position
+    if (!ascii) return double(data.size() - pos);
+    const auto at = values.tellg();
+    return at < 0 ? 0.0 : double(data.size() - body) - double(at);
+  };
   auto next_value = [&](bool floating, double& v) {
-    while (pos < data.size() && std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
-    if (pos >= data.size()) return 0;
-    std::string num;
-    std::size_t q = pos;
-    if (data[q] == '-' || data[q] == '+') num += data[q++];
-    const char* more = floating ? "0123456789.eE+-" : "0123456789";
-    while (q < data.size() && data[q] != '\0' && std::strchr(more, data[q])) num += data[q++];
-    pos = q;
-    if (num.empty() || !(floating ? std::sscanf(num.c_str(), "%lf", &v) == 1
-                                  : std::isdigit(static_cast<unsigned char>(num.back()))))
-      return 2;
-    if (!floating) v = std::strtod(num.c_str(), nullptr);
+    values >> std::ws;
+    if (values.eof()) return 0;
+    if (floating) {
+      if (!(values >> v)) return 2;
+    } else {
+      long long i = 0;
+      if (!(values >> i)) return 2;
+      v = double(i);
+    }
     return 1;
   };
   auto read_count = [&](int bytes, double max, double& v) {  // binary: an unsigned/signed integer count
@@ -342,7 +343,7 @@ void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
           const int got = ascii ? next_value(false, n) : read_count(p.count_bytes, p.count_max, n) ? 1 : 0;
           if (got == 0) bad("PLY data ends inside '" + e.name + "' element " + std::to_string(std::int64_t(i)));
           if (got == 2) return;  // CGAL stops here
-          if (!(n >= 0) || n > p.count_max || n * (ascii ? 1 : p.value_bytes) > double(data.size() - pos))
+          if (!(n >= 0) || n > p.count_max || n * (ascii ? 1 : p.value_bytes) > remaining())
             bad("PLY '" + e.name + "' element " + std::to_string(std::int64_t(i)) + " declares a list of " +
                 std::to_string(n) + " entries, more than the rest of the file can hold");
         }
