@@ -142,11 +142,19 @@ TEST(Hostile, DeclaredCountsBeyondTheFileSize) {
             std::string::npos) << error_of(surface(dir / "indented.ply"));
   // COFF: CGAL casts colours to unsigned char (a fuzzed 1020: undefined behaviour); colours are not used
   std::ofstream(dir / "colour.off") << "COFF\n3 1 0\n0 0 0 1020 0 0\n1 0 0 0 0 0\n0 1 0 0 0 0\n3 0 1 2\n";
-  EXPECT_NE(error_of(surface(dir / "colour.off")).find("OFF with colours ('COFF') is not read"), std::string::npos);
+  EXPECT_NE(error_of(surface(dir / "colour.off")).find("OFF with colours, normals or textures ('COFF') is not read"),
+            std::string::npos);
+  // STOFF: CGAL read a fuzzed texture past the end of its line (SIGSEGV)
+  std::ofstream(dir / "texture.off") << "STOFF\n3 1 0\n0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n";
+  EXPECT_NE(error_of(surface(dir / "texture.off")).find("('STOFF') is not read"), std::string::npos);
   // a PLY header without end_header: CGAL went on into a list length it never set
   std::ofstream(dir / "open.ply") << "ply\nformat binary_little_endian 1.0\nelement vertex 1\n"
                                      "property list int int v\n";
   EXPECT_NE(error_of(surface(dir / "open.ply")).find("PLY header has no end_header line"), std::string::npos);
+  // a value that is not a number: CGAL goes on with it unset (a fuzzed list length asked for 4 GB)
+  std::ofstream(dir / "nan_count.ply") << head << "x 0 1 2\n";
+  EXPECT_NE(error_of(surface(dir / "nan_count.ply")).find("PLY 'face' element 0 holds a value that is not a number"),
+            std::string::npos) << error_of(surface(dir / "nan_count.ply"));
   // CGAL reads vertex coordinates as float or double only (a fuzzed uint32 x: a call through null)
   std::ofstream(dir / "intx.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty uint32 x\nproperty float y\n"
                                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"

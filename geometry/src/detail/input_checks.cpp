@@ -107,10 +107,12 @@ void check_off(const std::filesystem::path& path, std::uintmax_t size) {
   if (key.size() < 3 || key.compare(key.size() - 3, 3, "OFF") != 0) return;  // SKEL or not OFF: CGAL decides
   const std::string flags = key.substr(0, key.size() - 3);
   const bool ndim = flags.find('n') != std::string::npos;
-  // CGAL casts each colour component to an unsigned char, which is undefined behaviour for values out of
-  // its range (a fuzzed COFF colour of 1020); colours are not used, so COFF is refused rather than walked
-  if (flags.find('C') != std::string::npos)
-    bad("OFF with colours ('" + key + "') is not read; expected OFF without colours (export it without them)");
+  // colours, normals and textures are not used, and CGAL's reading of them is unsafe on damaged input: it
+  // casts a colour of 1020 to an unsigned char (undefined behaviour) and read a fuzzed STOFF's texture
+  // past the end of its line (SIGSEGV); so such files are refused rather than walked, as binary ones are
+  if (flags.find_first_of("STCN") != std::string::npos)
+    bad("OFF with colours, normals or textures ('" + key + "') is not read; expected OFF, 4OFF or nOFF (export "
+        "without them)");
   c.skip_comments();
   long long nv = 0, nf = 0, ne = 0;
   // the edge count is not used, but CGAL doubles it in an int (a fuzzed binary OFF declared 1627389951:
@@ -306,8 +308,8 @@ void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
   if (!ascii && format != "binary_little_endian" && format != "binary_big_endian") return;  // CGAL reports it
   const bool big = format == "binary_big_endian";
   // ASCII: the next value as CGAL reads it, the stream's own >> (IO::iformat is that with GCC; integers of
-  // one or two bytes through a short). 0: the file ends, 1: read, 2: CGAL's read fails here (it then stops
-  // without allocating anything more). Integers are read wider than CGAL reads them: where CGAL fails on
+  // one or two bytes through a short). 0: the file ends, 1: read, 2: not a number (CGAL's read fails and it goes on with
+  // the variable unset: a list length it never set asked for 4 GB in a fuzzed file). Integers are read wider than CGAL reads them: where CGAL fails on
   // an overflow the walk goes on, so it can only refuse more.
   const std::size_t body = std::min(pos, data.size());
   std::istringstream values(ascii ? data.substr(body) : std::string());
@@ -348,7 +350,8 @@ void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
         if (p.list) {
           const int got = ascii ? next_value(false, n) : read_count(p.count_bytes, p.count_max, n) ? 1 : 0;
           if (got == 0) bad("PLY data ends inside '" + e.name + "' element " + std::to_string(std::int64_t(i)));
-          if (got == 2) return;  // CGAL stops here
+          if (got == 2)  // CGAL does not stop: it goes on with the value unset (a list length: gigabytes)
+            bad("PLY '" + e.name + "' element " + std::to_string(std::int64_t(i)) + " holds a value that is not a number");
           if (!(n >= 0) || n > p.count_max || n * (ascii ? 1 : p.value_bytes) > remaining())
             bad("PLY '" + e.name + "' element " + std::to_string(std::int64_t(i)) + " declares a list of " +
                 std::to_string(n) + " entries, more than the rest of the file can hold");
@@ -358,7 +361,8 @@ void check_ply(const std::filesystem::path& path, std::uintmax_t size) {
           for (double k = 0; k < n; ++k) {
             const int got = next_value(p.value_float, v);
             if (got == 0) bad("PLY data ends inside '" + e.name + "' element " + std::to_string(std::int64_t(i)));
-            if (got == 2) return;  // CGAL stops here
+            if (got == 2)  // CGAL does not stop: it goes on with the value unset (a list length: gigabytes)
+            bad("PLY '" + e.name + "' element " + std::to_string(std::int64_t(i)) + " holds a value that is not a number");
           }
         } else {
           const double bytes = n * p.value_bytes;
