@@ -25,11 +25,12 @@ Outline check_outline(const std::vector<OutlineKernel::Point_3>& corners, const 
   else if (std::abs(ny) <= std::abs(nz)) ux = -nz, uz = nx;
   else ux = ny, uy = -nx;
   std::vector<double> s(n);
-  double scale = 0;
+  double scale = 0;  // the largest |coordinate| and offset from corner 0: what the rounding scales with
   for (std::size_t i = 0; i < n; ++i) {
     const K::Vector_3 d = corners[i] - corners[0];
     s[i] = d.x() * ux + d.y() * uy + d.z() * uz;
-    scale = std::max(scale, std::abs(d.x()) + std::abs(d.y()) + std::abs(d.z()));
+    scale = std::max({scale, std::abs(d.x()) + std::abs(d.y()) + std::abs(d.z()),
+                      std::abs(corners[i].x()) + std::abs(corners[i].y()) + std::abs(corners[i].z())});
   }
   const double un = std::abs(ux) + std::abs(uy) + std::abs(uz);
   const double pad = 1e-9 * scale * (un > 0 ? un : 1.0) + 1e-300;
