@@ -167,6 +167,8 @@ void check_off(const std::filesystem::path& path, std::uintmax_t size) {
     if (c.p >= data.size()) return;  // CGAL reports the premature end
     (void)c.line();
   }
+  std::istringstream iss;  // one stream and one buffer for every face line: a mesh has millions
+  std::vector<double> entries;
   for (long long f = 0; f < nf; ++f) {
     c.skip_comments();
     if (c.p >= data.size()) return;
@@ -174,17 +176,19 @@ void check_off(const std::filesystem::path& path, std::uintmax_t size) {
     if (const auto h = l.find('#'); h != std::string::npos) l.resize(h);
     // the line's numbers read exactly as CGAL reads them (IO::iformat of a double: with GCC the stream's
     // own >>, under which "5-20000" is 5 then -20000)
-    std::istringstream iss(l);
-    std::vector<double> entries;
+    iss.clear();
+    iss.str(l);
+    entries.clear();
     for (double d; iss >> CGAL::IO::iformat(d);) entries.push_back(d);
     if (entries.empty()) return;  // CGAL fails on this face
-    std::string num;
-    std::istringstream(l) >> num;
     const double n = entries[0];
     // a face of n corners takes at least 2n + 1 characters ("3 0 1 2")
-    if (!(n >= 0 && n <= double(l.size()) / 2))
+    if (!(n >= 0 && n <= double(l.size()) / 2)) {
+      std::string num;  // as written in the file
+      std::istringstream(l) >> num;
       bad("OFF face " + std::to_string(f) + " declares " + num + " vertices but its line has " +
           std::to_string(l.size()) + " characters");
+    }
     // CGAL casts each index to an unsigned integer: a negative one (a fuzzed "-7") is undefined behaviour
     for (std::size_t c = 1; double(c) <= n && c < entries.size(); ++c)
       if (!(entries[c] >= 0 && entries[c] < 9.2e18)) {
