@@ -189,10 +189,11 @@ def dam_break_run(run_dir, nframes=4, dimension=2, dx=0.02, name="dam", with_wal
     return write_run(run_dir, frames, name=name, probes=probes)
 
 
-def tank3d_run(run_dir, nframes=3, dx=0.02, name="tank3d", with_body=True, layers=2):
+def tank3d_run(run_dir, nframes=3, dx=0.02, name="tank3d", with_body=True, layers=2, times=None, every=None):
     """A 3D run a user would make (issue 35): a tall open-top box tank (body 1, ``layers`` layers outside its
     walls) holding a shallow block of water (body 0) and a block obstacle standing in it (body 2). The water
-    spreads with time as in dam_break_run; pressure hydrostatic. ``with_body=False``: frames without `body`."""
+    spreads with time as in dam_break_run; pressure hydrostatic. ``with_body=False``: frames without `body`.
+    ``times``: the frames' times (default 0.1 k); ``every``: output.every written to run.json."""
     L, W, Ht = 0.4, 0.3, 0.4                    # tank inside [0, L] x [0, W] x [0, Ht]
     n_in = (int(round(L / dx)), int(round(W / dx)), int(round(Ht / dx)))
     tank = lattice_block((n_in[0] + 2 * layers, n_in[1] + 2 * layers, n_in[2] + layers), dx,
@@ -204,7 +205,7 @@ def tank3d_run(run_dir, nframes=3, dx=0.02, name="tank3d", with_body=True, layer
     H = 6 * dx
     frames = []
     for k in range(nframes):
-        t = 0.1 * k
+        t = 0.1 * k if times is None else times[k]
         s = 1.0 + 1.0 * t
         p = base.copy()
         p[:, 0] *= s
@@ -220,7 +221,8 @@ def tank3d_run(run_dir, nframes=3, dx=0.02, name="tank3d", with_body=True, layer
                                  body=body if with_body else None))
     pvd = write_run(run_dir, frames, name=name, probes=False)
     with open(os.path.join(run_dir, "run.json"), "w") as f:    # the vertical axis comes from gravity
-        f.write('{"scene": {"name": "%s", "dimension": 3, "gravity": [0, 0, -9.81]}}\n' % name)
+        f.write('{"scene": {"name": "%s", "dimension": 3, "gravity": [0, 0, -9.81]%s}}\n'
+                % (name, ', "output": {"every": %r}' % every if every else ""))
     return pvd
 
 
