@@ -320,7 +320,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.t_end = r.positive("time.end", std::nullopt, "end time [s]");
   s.output_every = r.positive("output.every", s.t_end / 50, "seconds between frames");
   s.output_fields = r.strings("output.fields", std::vector<std::string>{"velocity", "density", "pressure", "mass",
-                                                                        "id", "kind", "normal"});
+                                                                        "id", "kind", "normal", "body"});
   s.output_precision = r.choice("output.precision", "float32", {"float32", "float64"});
   s.checkpoint_every = r.number("checkpoint.every", 0.0, 0, kInf, "simulated seconds between checkpoints");
   s.checkpoint_wall_minutes = r.number("checkpoint.wall_minutes", 0.0, 0, kInf, "wall-clock minutes");

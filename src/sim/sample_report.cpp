@@ -15,7 +15,7 @@ template <int D>
 std::string sample(const scene::Scene& s, const std::filesystem::path& dir) {
   Simulation<D> sim(s);
   const auto path = dir / (s.name + "_particles.vtu");
-  io::write_vtu(path.string(), frame_from(sim, {"kind", "normal", "id", "mass", "density"}, true));
+  io::write_vtu(path.string(), frame_from(sim, {"kind", "normal", "id", "mass", "density", "body"}, true));
   // nearest-neighbour distance of every particle, by kind, through the grid (support >= 1.2 dx)
   const auto& grid = sim.grid();
   const auto& x = sim.fields().x.data;
