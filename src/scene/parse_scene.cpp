@@ -16,6 +16,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 std::string at(const std::string& base, const std::string& key) { return base + "." + key; }
 
 BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
+  r.expect_keys(base, {"kind", "shape", "min", "max", "open", "layers", "center", "radius", "points", "velocities",
+                       "velocity", "initial_pressure", "free_surface", "pressures", "mesh", "fill", "layer_side",
+                       "transform", "section", "clip_min", "clip_max", "allow_self_intersections", "motion"});
   BodySpec b;
   b.kind = r.choice(at(base, "kind"), std::nullopt, {"fluid", "boundary"});
   b.shape = r.choice(at(base, "shape"), r.has(at(base, "mesh")) ? std::optional<std::string>("mesh") : std::nullopt,
@@ -97,6 +100,10 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   if (!root.is_object()) throw InputError(fname + ": expected a JSON object at the top level");
   for (const auto& o : overrides) apply_override(root, o, fname);
   JsonReader r(std::move(root), fname);
+  r.note_overrides(overrides);
+  r.expect_keys("physics", {"density", "artificial_viscosity", "laminar_viscosity", "body_force", "xsph", "damping",
+                            "gravity_ramp", "density_diffusion", "riemann", "tensile_instability", "shepard_reinit",
+                            "shifting"});
   Scene s;
   s.file = file;
   s.name = r.text("name", std::nullopt);
