@@ -329,6 +329,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.output_fields = r.strings("output.fields", std::vector<std::string>{"velocity", "density", "pressure", "mass",
                                                                         "id", "kind", "normal", "body"});
   s.output_precision = r.choice("output.precision", "float32", {"float32", "float64"});
+  s.output_static_boundary = r.choice("output.static_boundary", "every_frame", {"every_frame", "once"});
   s.checkpoint_every = r.number("checkpoint.every", 0.0, 0, kInf, "simulated seconds between checkpoints");
   s.checkpoint_wall_minutes = r.number("checkpoint.wall_minutes", 0.0, 0, kInf, "wall-clock minutes");
   s.checkpoint_every_steps = r.integer("checkpoint.every_steps", 0, 0, 1000000000000L);

@@ -120,6 +120,9 @@ struct Scene {
   double output_every = 0;
   std::vector<std::string> output_fields;
   std::string output_precision = "float32";
+  // "every_frame": every frame holds every particle (CONTRACT.md); "once": the static walls go to a file of
+  // their own, written at the first frame and again only when their number changes (issue 35)
+  std::string output_static_boundary = "every_frame";
   double checkpoint_every = 0;  // [s] simulated, 0 = only at end
   double checkpoint_wall_minutes = 0;
   long checkpoint_every_steps = 0;  // steps between checkpoints, 0 = off

@@ -27,6 +27,7 @@
 #include "sim/build_info.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/frame_export.hpp"
+#include "sim/static_walls.hpp"
 #include "sim/health.hpp"
 #include "sim/probes.hpp"
 #include "sim/restart.hpp"
@@ -506,6 +507,27 @@ class Runner {
     dt_bound_ = r.dt_bound;
   }
 
+  // output.static_boundary = "once" (one process): the frame `fd` leaves the static walls out and names the
+  // file that holds them, written now when there is none yet from this process or their number changed
+  // (a restart writes its own at its first frame). Returns that file relative to the run directory.
+  std::string lean_frame(Simulation<D>& sim, io::FrameData& fd, long index) {
+    const auto& f = sim.fields();
+    split_static(f.kind.data, f.body.data, sim.size(), static_bodies(scene_), static_sel_, moving_sel_);
+    if (static_rel_.empty() || static_sel_.size() != static_count_) {
+      char num[32];
+      std::snprintf(num, sizeof num, "%06ld", index);
+      const std::string file = scene_.name + "_static_" + num + ".vtu";
+      io::FrameData st = fd;
+      st.select = &static_sel_;
+      io::write_vtu((dir_.frames() / file).string(), st);
+      static_rel_ = "frames/" + file;
+      static_count_ = static_sel_.size();
+    }
+    fd.select = &moving_sel_;
+    fd.static_file = std::filesystem::path(static_rel_).filename().string();  // beside the frame
+    return static_rel_;
+  }
+
   void write_frame(Simulation<D>& sim) {
     sim.sync_host();  // a device run's state into the store
     const long index = frame_index_++;
@@ -517,8 +539,9 @@ class Runner {
     fd.time = time;
     fd.step = step;
     fd.count = sim.size();  // owned particles (a piece per rank when distributed)
+    const std::string static_rel = scene_.output_static_boundary == "once" ? lean_frame(sim, fd, index) : "";
     const std::string rel = parallel::write_frame(*comm_, dir_, index, fd);
-    on_root([&] { pvd_->add(io::frame_time_label(time, scene_.output_every), rel); });  // the deferred frame's time
+    on_root([&] { pvd_->add(io::frame_time_label(time, scene_.output_every), rel, static_rel); });  // the deferred frame's time
     last_frame_name_ = dir_.frame_relative(index);
     last_frame_at_current_ = true;
     last_frame_step_ = step;
@@ -632,6 +655,9 @@ class Runner {
   bool root_ = true, quiet_ = false;
   io::RunDirectory dir_;
   std::unique_ptr<io::PvdSeries> pvd_;
+  std::vector<std::uint32_t> static_sel_, moving_sel_;  // lean frames: the static walls and the rest
+  std::string static_rel_;                             // the static walls' file ("" = none written yet)
+  std::size_t static_count_ = 0;
   Probes<D>* probes_ = nullptr;  // the run loop's probes (their accumulation goes into checkpoints)
   io::CsvTable diag_, probes_csv_, removed_csv_;
   HealthMonitor<D> health_;

@@ -137,6 +137,9 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     if (comm_->size() > 1 && scene.device != "cpu")
       throw InputError(scene.file.string() + ": execution.device = \"" + scene.device + "\" is not available on "
                        "several MPI ranks yet (docs/parallel.md, Limits); run it in one process or on the CPU");
+    if (comm_->size() > 1 && scene.output_static_boundary != "every_frame")  // one static file, not pieces
+      throw InputError(scene.file.string() + ": key 'output.static_boundary': \"once\" is written by one process "
+                       "only; run it in one process or set \"every_frame\"");
     if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
       // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
       throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
