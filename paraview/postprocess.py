@@ -13,6 +13,9 @@ Writes (and prints each path):
                                   it has one, else from the frames) with Martin & Moyce (1952) and Koshizuka &
                                   Oka (1996) measurements; --compare overlays run B
   momentum.csv, momentum_Q.png    time,momentum_x,momentum_y,momentum_z,momentum_Q and Q(t) (+ run B)
+  body_<N>_motion.png, body_<N>_loads.png, moorings.png
+                                  runs with rigid bodies (bodies.csv): plot_bodies.py; --body-reference overlays
+                                  a measured motion
   deviation.csv/.png              with --compare: time,D_max,D_mean,D_rms over the common times (eq. 70)
   scene_diff.txt                  with --compare: the resolved scene keys in which the runs differ
   free_surface_t<T>.png, pressure_t<T>.png, pressure_smoothed_t<T>.png (raw | smoothed), deviation_t<T>.png
@@ -220,6 +223,8 @@ def main(argv=None):
                     help="plot probe NAME against measured data in FILE (columns T,P or t,p); repeatable")
     ap.add_argument("--probe-points", default=None, help="pressure from the frames at 'x,y[,z];...' (output rate)")
     ap.add_argument("--no-snapshots", action="store_true", help="skip the ParaView pictures")
+    ap.add_argument("--body-reference", default=None, metavar="FILE[:quantity=y][:scale_t=..][:scale_v=..]",
+                    help="a measured body motion to overlay on body_N_motion.png (plot_bodies.py)")
     a = ap.parse_args(argv)
     if os.path.isfile(os.path.join(a.run, "study.json")):  # a `varsph study` directory: every level side by side
         import study_levels
@@ -253,6 +258,15 @@ def main(argv=None):
     surge_table(a.run, post, loaded, floats(a.gauges))
     front_figure(runs, post, frames0)
     momentum(runs, post)
+    if os.path.isfile(os.path.join(a.run, "bodies.csv")):  # rigid bodies: motion and loads (plot_bodies.py)
+        import plot_bodies
+        try:
+            ref = plot_bodies.parse_reference(a.body_reference) if a.body_reference else None
+        except (OSError, ValueError) as e:
+            print("postprocess: error: %s" % e, file=sys.stderr)
+            return 2
+        for path in plot_bodies.figures(a.run, post, ref):
+            note(path)
     if a.probe_points:
         pts = [floats(p) + [0.0] * (3 - len(floats(p))) for p in a.probe_points.split(";") if p.strip()]
         t, v = probe.probe_series(a.run, pts, frames=loaded)
