@@ -2,16 +2,19 @@
 
     xvfb-run -a -s -noreset pvpython paraview/postprocess.py RUN_DIR [--compare OTHER_RUN] [--times t1,t2,...]
         [--gauges x1,x2,...] [--reference-probe NAME=FILE.csv[:H=..][:rho=..][:g=..][:label=..]]...
-        [--probe-points "x,y[,z];..."] [--no-snapshots]
+        [--front-reference measured|FILE.csv]... [--probe-points "x,y[,z];..."] [--no-snapshots]
 
 Writes (and prints each path):
   probes_<type>.png               RUN/probes.csv (the solver's runtime probes, sampled every probes_every):
                                   pressure, water_height, front, force; --compare overlays run B's
   probe_<NAME>_reference.png      a probe beside measured data (--reference-probe, see below)
-  surge_front.csv/.png            time,front_x,front_rel,height_x<g>... from the frames (--gauges: heights)
+  surge_front.csv/.png            time,front_x,front_rel,height_x<g>... from the frames (--gauges: heights);
+                                  for a dam-break column (below) or with --gauges
   front_dimensionless.csv/.png    Z = (x_front - x_wall)/L against T = t sqrt(2 g/L) (front from probes.csv when
                                   it has one, else from the frames) with Martin & Moyce (1952) and Koshizuka &
-                                  Oka (1996) measurements; --compare overlays run B
+                                  Oka (1996) measurements; --compare overlays run B. Only where the run is
+                                  their case (a column of H/L = 2 against a wall on a floor; varsph/casefit.py)
+                                  or with --front-reference (measured: those; FILE.csv: columns T,Z)
   momentum.csv, momentum_Q.png    time,momentum_x,momentum_y,momentum_z,momentum_Q and Q(t) (+ run B)
   body_<N>_motion.png, body_<N>_loads.png, moorings.png
                                   runs with rigid bodies (bodies.csv): plot_bodies.py; --body-reference overlays
@@ -20,7 +23,8 @@ Writes (and prints each path):
   scene_diff.txt                  with --compare: the resolved scene keys in which the runs differ
   free_surface_t<T>.png, pressure_t<T>.png, pressure_smoothed_t<T>.png (raw | smoothed), deviation_t<T>.png
                                   pictures at --times (nearest frames; default 4 evenly spaced frames;
-                                  deviation: the last common time)
+                                  deviation: the last common time); T is the output time the frame was
+                                  written for (k x output.every: 0.4, not an adaptive step's 0.395943)
   pressure_probes.csv/.png        with --probe-points: pressure interpolated from the FRAMES (output rate only;
                                   impacts between frames are missed: prefer runtime probes in the scene)
 
@@ -41,7 +45,7 @@ import numpy as np  # noqa: E402
 
 from varsph import deviation as dev  # noqa: E402
 from varsph import io as vio  # noqa: E402
-from varsph import plots, probe, reference, runmeta, surge  # noqa: E402
+from varsph import casefit, plots, probe, reference, runmeta, surge  # noqa: E402
 
 WRITTEN = []
 
@@ -107,11 +111,11 @@ def reference_probe_figures(run, post, specs, geom):
                          xl, yl, "probe %s against %s\n(%s)" % (col, ref_label, sub), markers=[(ref_label, x, y)]))
 
 
-def front_figure(runs, post, frames0):
-    """Dimensionless surge front with the bundled measurements."""
+def front_figure(runs, post, frames0, refs):
+    """Dimensionless surge front beside measurements ``refs`` ([(label, T, Z)])."""
     series = []
     for run, f0 in zip(runs, frames0):
-        geom = reference.ColumnGeometry(f0, run)
+        geom = reference.ColumnGeometry(f0, run, vertical=vio.vertical_axis(run, f0.dimension))
         head, c = runmeta.probes(run)
         fcol = next((h for h in head if h.startswith("front_x")), None)
         if fcol:
@@ -124,9 +128,6 @@ def front_figure(runs, post, frames0):
             note(surge.write_table_csv(["time", "T", "Z"], np.column_stack([t, T, Z]),
                                        os.path.join(post, "front_dimensionless.csv")))
         series.append((label_of(run), [("varsph (%s), L = %.4g m, n^2 = H/L = %.3g" % (src, geom.L, geom.n2), T, Z)]))
-    refs = [(label + " (n^2 = 2)", T, Z) for label, T, Z in reference.front_references()]
-    if not refs:
-        print("front_dimensionless.png: no reference data found in %s" % " or ".join(reference.DATA_DIRS))
     note(plots.lines(os.path.join(post, "front_dimensionless.png"), series, "T = t sqrt(2 g / L)",
                      "Z = (x_front - x_wall) / L", "dam-break surge front", markers=refs))
 
@@ -186,6 +187,25 @@ def compare(run, other, post):
     return drows
 
 
+def front_refs(specs):
+    """[(label, T, Z)] of --front-reference: 'measured' (the bundled measurements, n^2 = 2) or a CSV file with
+    columns T,Z. ValueError naming the file for anything else."""
+    out = []
+    for spec in specs:
+        if spec == "measured":
+            found = [(label + " (n^2 = 2)", T, Z) for label, T, Z in reference.front_references()]
+            if not found:
+                print("front_dimensionless.png: no reference data found in %s" % " or ".join(reference.DATA_DIRS))
+            out += found
+            continue
+        c = reference.read_columns(spec)
+        if "T" not in c or "Z" not in c:
+            raise ValueError("--front-reference %s: expected columns T,Z (T = t sqrt(2 g/L), Z = front/L); the "
+                             "header is %s" % (spec, ",".join(c)))
+        out.append((os.path.splitext(os.path.basename(spec))[0], c["T"], c["Z"]))
+    return out
+
+
 def snapshots(run, other, post, times, size=(1200, 700)):
     try:
         from varsph import pvstate
@@ -193,24 +213,29 @@ def snapshots(run, other, post, times, size=(1200, 700)):
         print("skipped snapshots: ParaView is not available (%s); run with pvpython" % e)
         return
     s = pvstate.pv()
+    every = (runmeta.scene_of(run).get("output") or {}).get("every")
+
+    def label(t):
+        return casefit.time_label(t, every)
     for name, build in (("free_surface", lambda: pvstate.free_surface_state(run, view=pvstate.new_view(size))),
                         ("pressure", lambda: pvstate.pressure_state(run, view=pvstate.new_view(size)))):
         s.ResetSession()
         view = build()
         for t in times:
             pvstate.set_time(view, t)
-            note(pvstate.screenshot(view, os.path.join(post, "%s_t%.6g.png" % (name, t)), size))
+            note(pvstate.screenshot(view, os.path.join(post, "%s_t%s.png" % (name, label(t))), size))
     s.ResetSession()
     layout = pvstate.pressure_pair(run, size=(2 * size[0], size[1]))
     first = s.FindView("varsph pressure raw view")
     for t in times:
         pvstate.set_time(first, t)
-        note(pvstate.screenshot(layout, os.path.join(post, "pressure_smoothed_t%.6g.png" % t), (2 * size[0], size[1])))
+        note(pvstate.screenshot(layout, os.path.join(post, "pressure_smoothed_t%s.png" % label(t)),
+                                (2 * size[0], size[1])))
     if other:
         s.ResetSession()
         view = pvstate.deviation_state(run, other, view=pvstate.new_view(size))
         t = s.GetAnimationScene().AnimationTime
-        note(pvstate.screenshot(view, os.path.join(post, "deviation_t%.6g.png" % t), size))
+        note(pvstate.screenshot(view, os.path.join(post, "deviation_t%s.png" % label(t)), size))
 
 
 def main(argv=None):
@@ -221,6 +246,9 @@ def main(argv=None):
     ap.add_argument("--gauges", default=None, help="water-height gauge positions x1,x2,... for surge_front.csv")
     ap.add_argument("--reference-probe", action="append", default=[], metavar="NAME=FILE[:H=..][:rho=..][:g=..]",
                     help="plot probe NAME against measured data in FILE (columns T,P or t,p); repeatable")
+    ap.add_argument("--front-reference", action="append", default=[], metavar="measured|FILE.csv",
+                    help="draw the dimensionless front against these (measured: Martin & Moyce, Koshizuka & Oka; "
+                         "FILE: columns T,Z) even where the run is not their dam-break case; repeatable")
     ap.add_argument("--probe-points", default=None, help="pressure from the frames at 'x,y[,z];...' (output rate)")
     ap.add_argument("--no-snapshots", action="store_true", help="skip the ParaView pictures")
     ap.add_argument("--body-reference", default=None, metavar="FILE[:quantity=y][:scale_t=..][:scale_v=..]",
@@ -236,6 +264,7 @@ def main(argv=None):
         other_frames = vio.frames_of_run(a.compare) if a.compare else None
         for spec in a.reference_probe:     # check the references before any work
             reference.load_reference_probe(reference.parse_reference_probe(spec)[1])
+        given_fronts = front_refs(a.front_reference)
     except (OSError, ValueError) as e:
         print("postprocess: error: %s" % e, file=sys.stderr)
         return 2
@@ -251,12 +280,22 @@ def main(argv=None):
     frames0 = [loaded[0]] + ([vio.read_vtu(other_frames[0][1], other_frames[0][0])] if other_frames else [])
     probe_figures(runs, post)
     try:
-        reference_probe_figures(a.run, post, a.reference_probe, reference.ColumnGeometry(loaded[0], a.run))
+        reference_probe_figures(a.run, post, a.reference_probe, reference.ColumnGeometry(
+            loaded[0], a.run, vertical=vio.vertical_axis(a.run, loaded[0].dimension)))
     except ValueError as e:
         print("postprocess: error: %s" % e, file=sys.stderr)
         return 2
-    surge_table(a.run, post, loaded, floats(a.gauges))
-    front_figure(runs, post, frames0)
+    vert = vio.vertical_axis(a.run, loaded[0].dimension)
+    dam, why = casefit.dam_break_column(loaded[0], vertical=vert, scene=runmeta.scene_of(a.run))
+    if dam or a.gauges:
+        surge_table(a.run, post, loaded, floats(a.gauges))
+    if dam or given_fronts:
+        front_figure(runs, post, frames0, given_fronts or front_refs(["measured"]))
+    if not dam:
+        skipped = ([] if a.gauges else ["surge_front.csv/.png (--gauges X,... writes it)"]) + \
+            ([] if given_fronts else ["front_dimensionless.csv/.png (--front-reference measured|FILE.csv draws it)"])
+        print("%s is not the measured dam-break case (%s)%s" % (label_of(a.run), why,
+              "; skipped " + ", ".join(skipped) if skipped else ""))
     momentum(runs, post)
     if os.path.isfile(os.path.join(a.run, "bodies.csv")):  # rigid bodies: motion and loads (plot_bodies.py)
         import plot_bodies

@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-bash scripts/build.sh
+bash scripts/build.sh varsph   # the command alone; tests and benchmarks build in scripts/test.sh
 run=runs/dam_break_2d_paper
 ./build/release/bin/varsph run pipelines/dam_break_2d_paper.json -o "$run" --overwrite
 if [ -f paraview/postprocess.py ]; then

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "core/source_dir.hpp"
 #include "scene/scene.hpp"
 #include "sim/simulation.hpp"
 
@@ -130,7 +131,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const std::string dir = std::string(VARSPH_SOURCE_DIR) + "/pipelines/";
+  const std::string dir = source_dir_or(VARSPH_SOURCE_DIR) + "/pipelines/";
   std::vector<Case> cases = {
       {"dam_break_2d_paper_1682", "dam_break_2d_paper.json", {}, quick ? 200 : 2000},
       {"dam_break_2d_27k", "dam_break_2d_paper.json", {"particles.spacing=0.00125", "integrator.dt=2.5e-5"}, quick ? 20 : 200},

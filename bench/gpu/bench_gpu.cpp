@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/source_dir.hpp"
 #include "exec/device_backend.hpp"
 #include "exec/device_run.hpp"
 #include "scene/scene.hpp"
@@ -94,7 +95,7 @@ void one_step(Simulation<D>& sim) {
 void run_dam_break(const std::string& device, double dp, int steps, const std::vector<std::string>& sets) {
   std::vector<std::string> o = {"particles.spacing=" + std::to_string(dp), "execution.device=\"" + device + "\""};
   o.insert(o.end(), sets.begin(), sets.end());
-  const auto s = scene::parse_scene(std::string(VARSPH_SOURCE_DIR) + "/pipelines/dam_break_3d_dsph.json", o);
+  const auto s = scene::parse_scene(source_dir_or(VARSPH_SOURCE_DIR) + "/pipelines/dam_break_3d_dsph.json", o);
   const auto t_setup = std::chrono::steady_clock::now();
   Simulation<3> sim(s);
   const double setup = seconds_since(t_setup);
@@ -120,7 +121,7 @@ void run_dam_break(const std::string& device, double dp, int steps, const std::v
 void run_paper(const std::string& device, const std::vector<std::string>& sets) {
   std::vector<std::string> o = {"execution.device=\"" + device + "\""};
   o.insert(o.end(), sets.begin(), sets.end());
-  const auto s = scene::parse_scene(std::string(VARSPH_SOURCE_DIR) + "/pipelines/dam_break_2d_paper.json", o);
+  const auto s = scene::parse_scene(source_dir_or(VARSPH_SOURCE_DIR) + "/pipelines/dam_break_2d_paper.json", o);
   Simulation<2> sim(s);
   const int steps = int(std::lround(s.t_end / *s.dt));
   const auto t0 = std::chrono::steady_clock::now();

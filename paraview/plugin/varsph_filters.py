@@ -44,6 +44,7 @@ from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # 
 
 import varsph  # noqa: E402
 from varsph import deviation as _dev  # noqa: E402
+from varsph import parts as _parts  # noqa: E402
 from varsph import surge as _surge  # noqa: E402
 
 _CATEGORY = '<ShowInMenu category="varsph" />'
@@ -170,6 +171,7 @@ class RunReader(VTKPythonAlgorithmBase):
         self._pvd = ""
         self._entries = []
         self._cache = (None, None)
+        self._classes = (None, {})   # (.pvd, {body: part}) from the run's first frame (varsph/parts.py)
 
     @smproperty.stringvector(name="RunDirectory", label="Run Directory", default_values="")
     def SetRunDirectory(self, d):
@@ -209,11 +211,26 @@ class RunReader(VTKPythonAlgorithmBase):
         t = oi.Get(_SDDP.UPDATE_TIME_STEP()) if oi.Has(_SDDP.UPDATE_TIME_STEP()) else self._entries[0][0]
         t_frame, path = varsph.io.entry_at(self._entries, t)
         if self._cache[0] != path:
-            self._cache = (path, varsph.io.read_dataset(path))
+            self._cache = (path, self._with_part(varsph.io.read_dataset(path)))
         out = vtkDataSet.GetData(outInfo)
         out.ShallowCopy(self._cache[1])
         out.GetInformation().Set(vtkDataObject.DATA_TIME_STEP(), t_frame)
         return 1
+
+    def _with_part(self, ds):
+        """The frame plus `part` (0 fluid, 1 wall, 2 obstacle or body; varsph/parts.py), which the states
+        use to cut the container away in 3D. Bodies are classified once per run, on its first frame."""
+        if self._classes[0] != self._pvd:
+            f0 = varsph.io.read_vtu(self._entries[0][1], self._entries[0][0])
+            classes = {}
+            if "kind" in f0.arrays and "body" in f0.arrays and "dx" in f0.fields:
+                classes = _parts.classify_bodies(f0.points, f0.arrays["kind"], f0.arrays["body"], f0.dx)
+            self._classes = (self._pvd, classes)
+        kind = varsph.io.point_array(ds, "kind")
+        if kind is None:
+            kind = np.zeros(ds.GetNumberOfPoints(), dtype=np.int32)
+        _add_point_array(ds, "part", _parts.part_array(kind, varsph.io.point_array(ds, "body"), self._classes[1]))
+        return ds
 
 
 # --------------------------------------------------------------------------------------------------

@@ -10,6 +10,10 @@ discs of diameter dx, the camera fitted to where the fluid goes during the run w
 it, ParaView's own time annotation (Annotate Time), and colour ranges taken per frame from robust
 percentiles of the shown field (a Python animation cue re-applies them whenever the time changes, in the
 GUI as in pvpython).
+
+3D runs (issue 35): the same pipeline, styled for the run's dimension by style_for_run: the container's
+particles clipped away on the camera's side and drawn light with their box as an outline, obstacles and bodies
+in their own colour (the `part` array of varsph Run, varsph/parts.py), every particle a shaded sphere.
 """
 import os
 import sys
@@ -29,6 +33,11 @@ ENV_RUN = "VARSPH_RUN_DIR"
 ENV_OTHER = "VARSPH_OTHER_RUN_DIR"
 WALL_GREY = [0.55, 0.55, 0.55]
 FLUID_PALE = [0.72, 0.82, 0.93]
+# 3D (issue 35): the container cut away on the camera's side, the rest of it light, its box as an outline;
+# obstacles and bodies in a colour none of the maps above uses
+WALL_LIGHT = [0.80, 0.80, 0.80]
+OUTLINE_GREY = [0.45, 0.45, 0.45]
+OBSTACLE_COLOUR = [0.50, 0.35, 0.55]   # mauve: direction cosine < 0.99 to every colour of the three maps
 
 
 def pv():
@@ -154,11 +163,53 @@ def fit_camera(view, info, bar_fraction=0.18):
         cam.SetViewUp(*up)
         view.ResetCamera(float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1]), float(lo[2]), float(hi[2]))
         cam.Dolly(0.85)
+    style_for_run(view, info, c, d if info.dimension == 3 else None)
     s.Render(view)
 
 
+def style_for_run(view, info, centre, towards_camera):
+    """What differs between a 2D and a 3D run in the same pipeline (_fluid_and_walls), for the run ``info``.
+
+    3D: the walls' cut-away plane through the fluid's centre, facing the camera (``towards_camera``), the
+    walls light, the obstacles in their own colour, every particle a shaded sphere, the walls' outline shown.
+    2D: nothing clipped, every boundary particle a grey disc, no outline."""
+    s = pv()
+    three = info.dimension == 3
+    cut = s.FindSource("WallsCutaway")
+    if cut is not None:
+        if three:
+            n = np.asarray(towards_camera, dtype=float)
+            cut.ClipType.Origin = [float(v) for v in centre]
+            cut.ClipType.Normal = [float(v) for v in n / np.linalg.norm(n)]
+        else:   # the plane above the z = 0 plane of a 2D run: every wall particle is kept
+            cut.ClipType.Origin = [0.0, 0.0, 1.0 + 1e3 * info.dx]
+            cut.ClipType.Normal = [0.0, 0.0, 1.0]
+    for name, colour in (("WallsCutaway", WALL_LIGHT if three else WALL_GREY),
+                         ("Obstacles", OBSTACLE_COLOUR if three else WALL_GREY)):
+        d = _display_in(view, s.FindSource(name))
+        if d is not None:
+            d.AmbientColor = d.DiffuseColor = colour
+    d = _display_in(view, s.FindSource("WallsOutline"))
+    if d is not None:
+        d.Visibility = int(three)
+    for d in view.Representations:
+        if getattr(d, "Representation", None) == "Point Gaussian":
+            d.ShaderPreset = "Sphere" if three else "Plain circle"
+
+
+def _display_in(view, src):
+    """The representation of ``src`` in ``view``, or None (GetDisplayProperties would make one)."""
+    if src is None:
+        return None
+    for d in view.Representations:
+        if getattr(d, "Input", None) == src:
+            return d
+    return None
+
+
 def _points(src, view, dx, colour=None, opacity=1.0, scale=1.0):
-    """Point Gaussian discs of diameter ``scale`` * dx (the particle spacing)."""
+    """Point Gaussian discs of diameter ``scale`` * dx (the particle spacing); shaded spheres in 3D, where
+    shading tells near from far (style_for_run)."""
     s = pv()
     d = s.Show(src, view)
     d.SetRepresentationType("Point Gaussian")
@@ -389,13 +440,44 @@ def open_run(run=None, name="run", variable=ENV_RUN):
     return r
 
 
-def _fluid_and_walls(s, src, dx, view, prefix=""):
-    walls = s.Threshold(registrationName=prefix + "Walls", Input=src, Scalars=["POINTS", "kind"],
-                        LowerThreshold=1, UpperThreshold=1)
-    fluid = s.Threshold(registrationName=prefix + "Fluid", Input=src, Scalars=["POINTS", "kind"],
-                        LowerThreshold=0, UpperThreshold=0)
-    _points(walls, view, dx, colour=WALL_GREY)
-    return fluid
+def _select(s, name, src, array, value):
+    """Threshold keeping the particles whose point array ``array`` equals ``value``. The range is set after
+    the proxy is made: ParaView 5.11 resets a threshold range passed at creation to the array's range when
+    the input already holds data and the value equals the property's default (a kind == 0 'Fluid' became
+    every particle once the walls were shown first)."""
+    t = s.Threshold(registrationName=name, Input=src, Scalars=["POINTS", array])
+    t.LowerThreshold = value
+    t.UpperThreshold = value
+    return t
+
+
+def _fluid_and_walls(s, src, info, views, prefix="", fluid=True):
+    """The run's boundary particles drawn in ``views`` (one view or several); returns the fluid (kind 0)
+    when ``fluid``.
+
+    The `part` array of varsph Run (varsph/parts.py) tells the container (*Walls*, part 1) from obstacles and
+    bodies (*Obstacles*, part 2). The walls are drawn through *WallsCutaway*, a clip whose plane
+    style_for_run aims at the camera in 3D (the wall particles between the camera and the water go, the
+    far walls and the floor stay), with their box as *WallsOutline*. The pipeline is the same for 2D and
+    3D runs, so that one saved state opens either; style_for_run sets what differs (2D: nothing clipped,
+    no outline, every boundary particle a grey disc, as before issue 35)."""
+    views = views if isinstance(views, (list, tuple)) else [views]
+    walls = _select(s, prefix + "Walls", src, "part", 1)
+    obstacles = _select(s, prefix + "Obstacles", src, "part", 2)
+    cut = s.Clip(registrationName=prefix + "WallsCutaway", Input=walls)
+    cut.ClipType = "Plane"
+    cut.Crinkleclip = 1      # whole particles (vertex cells), nothing interpolated
+    cut.Invert = 1           # keep the side away from the camera (the plane's normal points at it)
+    outline = s.Outline(registrationName=prefix + "WallsOutline", Input=walls)
+    for view in views:
+        _points(cut, view, info.dx, colour=WALL_GREY)
+        _points(obstacles, view, info.dx, colour=WALL_GREY)
+        od = s.Show(outline, view)
+        od.ColorArrayName = ["POINTS", ""]
+        od.AmbientColor = od.DiffuseColor = OUTLINE_GREY
+    if not fluid:
+        return None
+    return _select(s, prefix + "Fluid", src, "kind", 0)
 
 
 def free_surface_state(run=None, time=None, surface=False, view=None, portable=False):
@@ -406,12 +488,11 @@ def free_surface_state(run=None, time=None, surface=False, view=None, portable=F
     info = RunInfo(run_dir)
     view = view or new_view(name="varsph free surface")
     r = open_run(None if portable else run_dir)
-    fluid = _fluid_and_walls(s, r, info.dx, view)
+    fluid = _fluid_and_walls(s, r, info, view)
     _points(fluid, view, info.dx, colour=FLUID_PALE)
     # on the whole run: walls are neighbours, so fluid wetting a wall is not a free surface
     fs = s.varsphFreeSurface(registrationName="FreeSurface", Input=r, ReconstructSurface=int(bool(surface)))
-    surf = s.Threshold(registrationName="FreeSurfaceParticles", Input=s.OutputPort(fs, 0),
-                       Scalars=["POINTS", "free_surface"], LowerThreshold=1, UpperThreshold=1)
+    surf = _select(s, "FreeSurfaceParticles", s.OutputPort(fs, 0), "free_surface", 1)
     d = _points(surf, view, info.dx, colour=None if "velocity" in info.arrays else [0.1, 0.25, 0.6])
     if "velocity" in info.arrays:      # (`varsph sample` output has no velocity: free surface in dark blue)
         _colour_bar(d, view, "velocity", "Magnitude", SPEED_LUT, "speed [m/s]", fmt="%-.3g")
@@ -442,7 +523,7 @@ def pressure_state(run=None, time=None, prange=None, smoothed=False, view=None, 
                          % (run_dir, ", ".join(sorted(info.arrays))))
     view = view or new_view(name="varsph pressure")
     r = open_run(None if portable else run_dir)
-    fluid = _fluid_and_walls(s, r, info.dx, view)
+    fluid = _fluid_and_walls(s, r, info, view)
     shown, array = fluid, "pressure"
     if smoothed:
         shown = s.varsphSmoothedPressure(registrationName="SmoothedPressure", Input=fluid)
@@ -483,10 +564,8 @@ def pressure_pair(run=None, time=None, size=None):
             pass
         view.Background = [1.0, 1.0, 1.0]
         views.append(view)
-    fluid = _fluid_and_walls(s, r, info.dx, views[0])
+    fluid = _fluid_and_walls(s, r, info, views)
     sm = s.varsphSmoothedPressure(registrationName="SmoothedPressure", Input=fluid)
-    walls = s.FindSource("Walls")
-    _points(walls, views[1], info.dx, colour=WALL_GREY)
     for view, src, array, title in ((views[0], fluid, "pressure", "particle pressure"),
                                     (views[1], sm, "pressure_smoothed",
                                      "SPH-smoothed pressure (Shepard average over neighbours)")):
@@ -536,11 +615,8 @@ def deviation_state(run_a=None, run_b=None, time=None, drange=None, view=None, p
     dev = s.varsphDeviation(registrationName="Deviation", Input=ra, Reference=rb)
     if portable:   # a saved state opens at its first frame (see make_pvsm.py): show the end state regardless
         dev.CompareAt = "Last Common Time"
-    walls = s.Threshold(registrationName="Walls", Input=ra, Scalars=["POINTS", "kind"],
-                        LowerThreshold=1, UpperThreshold=1)
-    _points(walls, view, info.dx, colour=WALL_GREY)
-    fluid = s.Threshold(registrationName="FluidDeviation", Input=dev, Scalars=["POINTS", "kind"],
-                        LowerThreshold=0, UpperThreshold=0)
+    _fluid_and_walls(s, ra, info, view, fluid=False)   # run A's walls and obstacles
+    fluid = _select(s, "FluidDeviation", dev, "kind", 0)
     d = _points(fluid, view, info.dx)
     lut = _colour_bar(d, view, "deviation_magnitude", None, DEVIATION_LUT, "distance A - B [m]", fmt="%-.3g")
     note = s.PythonAnnotation(registrationName="DeviationNote", Input=dev)

@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
   info->add_option("scene", args.scene, "Scene file (JSON)")->required();
   info->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE");
 
-  auto* sample = app.add_subcommand("sample", "Geometry only: write the sampled particles as VTU and print statistics");
+  auto* sample = app.add_subcommand("sample", "Geometry only: write the sampled particles as VTU (with their body index) and print the count and the box of each body and the spacing statistics");
   sample->add_option("scene", args.scene, "Scene file (JSON)")->required();
   sample->add_option("-o,--output", args.output, "Output directory")->required();
   sample->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE");

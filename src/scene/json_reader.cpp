@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "scene/key_suggest.hpp"
 
 namespace varsph::scene {
 
@@ -62,12 +63,102 @@ void JsonReader::record(const std::string& path, const json& value) {
   resolved_[pointer_of(path)] = value;
 }
 
+namespace {
+// The blocks of a scene (docs/scene.md): candidates for a misspelt top-level key even when the scene names
+// none of the keys of a block (the parse then never meets them).
+const std::vector<std::string> kTopLevel = {"name", "dimension", "domain", "particles", "kernel", "gravity",
+                                            "fluid", "bodies", "physics", "boundary", "integrator", "time",
+                                            "output", "checkpoint", "probes", "log", "health", "execution",
+                                            "parallel"};
+
+std::vector<std::string> split_dots(const std::string& path) {
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  std::string part;
+  while (std::getline(ss, part, '.')) parts.push_back(part);
+  return parts;
+}
+
+bool at_or_under(const std::string& path, const std::string& key) {
+  return path == key || path.rfind(key + ".", 0) == 0;
+}
+}  // namespace
+
+void JsonReader::note_overrides(const std::vector<std::string>& assignments) {
+  for (const auto& a : assignments) overrides_.emplace_back(a.substr(0, a.find('=')), a);
+}
+
+std::string JsonReader::origin(const std::string& path) const {
+  for (auto it = overrides_.rbegin(); it != overrides_.rend(); ++it)  // the last --set of a key wins
+    if (at_or_under(path, it->first) || at_or_under(it->first, path))
+      return "--set '" + it->second + "' (scene " + file_ + ")";
+  return file_;
+}
+
 void JsonReader::fail(const std::string& path, const std::string& expected) const {
-  throw InputError(file_ + ": key '" + path + "': expected " + expected);
+  if (expected.find("required key is missing") != std::string::npos) throw_if_misspelt(path);
+  throw InputError(origin(path) + ": key '" + path + "': expected " + expected);
 }
 void JsonReader::fail_got(const std::string& path, const std::string& expected, const json& got) const {
-  throw InputError(file_ + ": key '" + path + "': expected " + expected + ", got " +
+  throw InputError(origin(path) + ": key '" + path + "': expected " + expected + ", got " +
                    got.dump(-1, ' ', false, json::error_handler_t::replace));
+}
+
+bool JsonReader::is_schema_prefix(const std::string& path) const {
+  if (path.find('.') == std::string::npos &&
+      std::find(kTopLevel.begin(), kTopLevel.end(), path) != kTopLevel.end())
+    return true;
+  for (const auto& k : known_)  // a key read, or a path above one (a known leaf such as the array
+    if (at_or_under(k, path)) return true;  // `bodies` says nothing about what is under it)
+  for (const auto& k : known_subtrees_)  // a subtree taken whole: everything in it is known
+    if (at_or_under(k, path) || at_or_under(path, k)) return true;
+  return false;
+}
+
+std::vector<std::string> JsonReader::children_of(const std::string& parent) const {
+  std::set<std::string> out;
+  if (parent.empty()) out.insert(kTopLevel.begin(), kTopLevel.end());
+  if (const auto it = expected_.find(parent); it != expected_.end()) out.insert(it->second.begin(), it->second.end());
+  const std::string pre = parent.empty() ? "" : parent + ".";
+  for (const auto* set : {&known_, &known_subtrees_})
+    for (const auto& k : *set)
+      if (k.rfind(pre, 0) == 0 && k.size() > pre.size()) out.insert(split_dots(k.substr(pre.size()))[0]);
+  return {out.begin(), out.end()};
+}
+
+std::string JsonReader::unknown_message(const std::string& leaf) const {
+  const auto parts = split_dots(leaf);
+  std::string parent, path;
+  for (const auto& p : parts) {
+    path = parent.empty() ? p : parent + "." + p;
+    if (!is_schema_prefix(path)) break;
+    parent = path;
+  }
+  const auto guess = closest_key(parts[split_dots(path).size() - 1], children_of(parent));
+  return origin(leaf) + ": unknown key '" + path + "'" +
+         (guess ? " (did you mean '" + (parent.empty() ? *guess : parent + "." + *guess) + "'?)" : "") +
+         (path != leaf ? " in '" + leaf + "'" : "") + "; not part of the scene schema, see docs/scene.md";
+}
+
+void JsonReader::throw_if_misspelt(const std::string& path) const {
+  const auto parts = split_dots(path);
+  std::string parent;
+  for (const auto& p : parts) {
+    const std::string here = parent.empty() ? p : parent + "." + p;
+    if (!raw(here)) {  // the first part of the path the scene lacks: a typo of it beside it?
+      const json* obj = parent.empty() ? &root_ : raw(parent);
+      if (!obj || !obj->is_object()) return;
+      for (auto it = obj->begin(); it != obj->end(); ++it) {
+        const std::string sibling = parent.empty() ? it.key() : parent + "." + it.key();
+        if (is_schema_prefix(sibling) || it.value().is_null()) continue;
+        if (closest_key(it.key(), {p}))
+          throw InputError(origin(sibling) + ": unknown key '" + sibling + "' (did you mean '" + here + "'? '" +
+                           path + "' is required); not part of the scene schema, see docs/scene.md");
+      }
+      return;
+    }
+    parent = here;
+  }
 }
 
 double JsonReader::number(const std::string& path, std::optional<double> def, double lo, double hi,
@@ -230,8 +321,7 @@ void JsonReader::check_unknown() const {
     // "comment" keys are allowed anywhere for documentation
     const auto last = leaf.substr(leaf.rfind('.') == std::string::npos ? 0 : leaf.rfind('.') + 1);
     if (under || last == "comment" || last.rfind("_comment", 0) == 0 || last == "description") continue;
-    throw InputError(file_ + ": unknown key '" + leaf +
-                     "' (not part of the scene schema; see docs/scene.md)");
+    throw InputError(unknown_message(leaf));
   }
 }
 
@@ -278,7 +368,7 @@ void apply_override(json& root, const std::string& assignment, const std::string
     try {
       (void)value.dump();  // every later dump (messages, run.json, checkpoints) needs valid UTF-8
     } catch (const json::exception&) {
-      throw InputError(file + ": --set " + key + ": VALUE is neither JSON nor valid UTF-8 text");
+      throw InputError("--set " + key + " (scene " + file + "): VALUE is neither JSON nor valid UTF-8 text");
     }
   }
   json* node = &root;
@@ -287,8 +377,8 @@ void apply_override(json& root, const std::string& assignment, const std::string
   std::vector<std::string> parts;
   while (std::getline(ss, part, '.')) parts.push_back(part);
   if (parts.size() > std::size_t(kMaxDepth))
-    throw InputError(file + ": --set " + key.substr(0, 80) + "...: more than " + std::to_string(kMaxDepth) +
-                     " levels of keys");
+    throw InputError("--set " + key.substr(0, 80) + "... (scene " + file + "): more than " +
+                     std::to_string(kMaxDepth) + " levels of keys");
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const std::string& p = parts[k];
     const bool last = k + 1 == parts.size();
@@ -296,13 +386,14 @@ void apply_override(json& root, const std::string& assignment, const std::string
       char* end = nullptr;
       const long idx = std::strtol(p.c_str(), &end, 10);
       if (*end != '\0' || idx < 0 || std::size_t(idx) >= node->size())
-        throw InputError(file + ": --set " + key + ": index '" + p + "' is out of range (the array has " +
-                         std::to_string(node->size()) + " elements)");
+        throw InputError("--set '" + assignment + "' (scene " + file + "): index '" + p +
+                         "' is out of range (the array has " + std::to_string(node->size()) + " elements)");
       node = &(*node)[std::size_t(idx)];
     } else {
       if (node->is_null()) *node = json::object();
       if (!node->is_object())
-        throw InputError(file + ": --set " + key + ": '" + p + "' is below a value that is not an object");
+        throw InputError("--set '" + assignment + "' (scene " + file + "): '" + p +
+                         "' is below a value that is not an object");
       node = &(*node)[p];
     }
     if (last) *node = value;

@@ -4,6 +4,7 @@
 // (run.json, checkpoints, `varsph info`) lists every parameter with its default. After parsing,
 // check_unknown() rejects keys nobody asked for. Errors are InputError naming the file and key.
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -39,6 +40,16 @@ class JsonReader {
   const json* raw(const std::string& path) const;
   // Marks a key as known without reading it (an object whose presence switches a term on).
   void mark_known(const std::string& path) { known_.insert(path); }
+  // The --set KEY=VALUE arguments applied to the tree: an error about KEY (or a key under it) names the
+  // argument, not only the file (issue 35).
+  void note_overrides(const std::vector<std::string>& assignments);
+  // Valid keys under `parent` that the parse may not meet (optional blocks, mesh keys): candidates of
+  // "did you mean" only; they do not make a key known.
+  void expect_keys(const std::string& parent, const std::vector<std::string>& names) {
+    expected_[parent].insert(names.begin(), names.end());
+  }
+  // "FILE" or "--set 'KEY=VALUE' (scene FILE)": where the value at `path` came from.
+  std::string origin(const std::string& path) const;
 
   void check_unknown() const;
   [[noreturn]] void fail(const std::string& path, const std::string& expected) const;
@@ -54,8 +65,17 @@ class JsonReader {
   json root_;
   json resolved_ = json::object();
   std::string file_;
+  // valid keys directly under `parent` ("" = top level) that the parse has met so far
+  std::vector<std::string> children_of(const std::string& parent) const;
+  bool is_schema_prefix(const std::string& path) const;
+  // the message for a key nobody asked for: the first unknown component of `leaf` and the closest valid key
+  std::string unknown_message(const std::string& leaf) const;
+  // a required key `path` is missing: an unknown key beside where it should be that is a typo of it
+  void throw_if_misspelt(const std::string& path) const;
   std::set<std::string> known_;
   std::set<std::string> known_subtrees_;
+  std::vector<std::pair<std::string, std::string>> overrides_;  // (KEY, "KEY=VALUE")
+  std::map<std::string, std::set<std::string>> expected_;
 };
 
 // "a.b.0.c" -> JSON pointer "/a/b/0/c"

@@ -17,6 +17,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 std::string at(const std::string& base, const std::string& key) { return base + "." + key; }
 
 BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
+  r.expect_keys(base, {"kind", "shape", "min", "max", "open", "layers", "center", "radius", "points", "velocities",
+                       "velocity", "initial_pressure", "free_surface", "pressures", "mesh", "fill", "layer_side",
+                       "transform", "section", "clip_min", "clip_max", "allow_self_intersections", "motion"});
   BodySpec b;
   b.kind = r.choice(at(base, "kind"), std::nullopt, {"fluid", "boundary", "rigid"});
   b.shape = r.choice(at(base, "shape"), r.has(at(base, "mesh")) ? std::optional<std::string>("mesh") : std::nullopt,
@@ -102,6 +105,10 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   if (!root.is_object()) throw InputError(fname + ": expected a JSON object at the top level");
   for (const auto& o : overrides) apply_override(root, o, fname);
   JsonReader r(std::move(root), fname);
+  r.note_overrides(overrides);
+  r.expect_keys("physics", {"density", "artificial_viscosity", "laminar_viscosity", "body_force", "xsph", "damping",
+                            "gravity_ramp", "density_diffusion", "riemann", "tensile_instability", "shepard_reinit",
+                            "shifting"});
   Scene s;
   s.file = file;
   s.name = r.text("name", std::nullopt);
@@ -329,7 +336,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.t_end = r.positive("time.end", std::nullopt, "end time [s]");
   s.output_every = r.positive("output.every", s.t_end / 50, "seconds between frames");
   s.output_fields = r.strings("output.fields", std::vector<std::string>{"velocity", "density", "pressure", "mass",
-                                                                        "id", "kind", "normal"});
+                                                                        "id", "kind", "normal", "body"});
   s.output_precision = r.choice("output.precision", "float32", {"float32", "float64"});
   s.checkpoint_every = r.number("checkpoint.every", 0.0, 0, kInf, "simulated seconds between checkpoints");
   s.checkpoint_wall_minutes = r.number("checkpoint.wall_minutes", 0.0, 0, kInf, "wall-clock minutes");

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/errors.hpp"
+#include "scene/key_suggest.hpp"
 #include "physics/pair_loop.hpp"
 
 namespace varsph {
@@ -48,8 +49,11 @@ MotionLaw<D> parse_motion(const json& m, const std::string& where) {
                                            : type == "rotation"  ? std::vector<std::string>{"type", "center", "omega", "start", "end"}
                                                                  : std::vector<std::string>{"type", "amplitude", "frequency", "phase", "start", "end"};
   for (auto it = m.begin(); it != m.end(); ++it)
-    if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end())
-      throw InputError(where + ": unknown key '" + it.key() + "' for a " + type + " motion");
+    if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end()) {
+      const auto guess = scene::closest_key(it.key(), allowed);
+      throw InputError(where + ": unknown key '" + it.key() + "' for a " + type + " motion" +
+                       (guess ? " (did you mean '" + *guess + "'?)" : ""));
+    }
   law.start = number_of(m, where, "start", 0.0);
   law.end = number_of(m, where, "end", 1e300);
   if (type == "translation") {

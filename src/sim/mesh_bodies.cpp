@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "core/errors.hpp"
+#include "scene/key_suggest.hpp"
 
 #ifdef VARSPH_HAVE_GEOMETRY
 #include "varsph/geometry/geometry_error.h"
@@ -47,9 +48,14 @@ Eigen::Matrix4d transform_of(const json& t, const std::string& where, int dim) {
   if (t.is_null()) return M;
   if (!t.is_object()) bad(where, "transform", "an object {scale, rotate_deg, translate} or {matrix}", t);
   for (auto it = t.begin(); it != t.end(); ++it)
-    if (it.key() != "scale" && it.key() != "rotate_deg" && it.key() != "translate" && it.key() != "matrix")
-      throw InputError(where + ".transform: unknown key '" + it.key() + "' (scale, rotate_deg, translate, matrix)");
+    if (it.key() != "scale" && it.key() != "rotate_deg" && it.key() != "translate" && it.key() != "matrix") {
+      const auto guess = scene::closest_key(it.key(), {"scale", "rotate_deg", "translate", "matrix"});
+      throw InputError(where + ".transform: unknown key '" + it.key() + "'" +
+                       (guess ? " (did you mean '" + *guess + "'?)" : "") + "; expected scale, rotate_deg, translate, matrix");
+    }
   if (t.contains("matrix")) {
+    if (t.contains("scale") || t.contains("rotate_deg") || t.contains("translate"))  // they would be ignored
+      bad(where, "transform", "either {matrix} or {scale, rotate_deg, translate}, not both", t);
     const json& m = t["matrix"];
     if (!m.is_array() || m.size() != 16) bad(where, "transform.matrix", "16 numbers (row-major 4 x 4)", m);
     for (int k = 0; k < 16; ++k) {
@@ -89,6 +95,17 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_parti
   geometry::BodyRequest req;
   if (!m["mesh"].is_string()) bad(where, "mesh", "a file path", m["mesh"]);
   req.mesh = s.file.parent_path() / m["mesh"].get<std::string>();
+  if (std::error_code ec; !std::filesystem::exists(req.mesh, ec)) {  // say where it was looked for (issue 35)
+    const auto looked = std::filesystem::weakly_canonical(std::filesystem::absolute(req.mesh, ec), ec);
+    throw InputError(where + ".mesh: file '" + m["mesh"].get<std::string>() + "' not found: looked for " +
+                     looked.string() +
+                     (std::filesystem::path(m["mesh"].get<std::string>()).is_relative()
+                          ? " (a relative path is taken from the folder of the scene file, " +
+                                std::filesystem::weakly_canonical(std::filesystem::absolute(s.file.parent_path(), ec), ec)
+                                    .string() + ")"
+                          : std::string()) +
+                     "; expected an existing .stl, .obj, .off, .ply or .poly2d file");
+  }
   req.dimension = D;
   req.spacing = s.spacing;
   for (const char* key : {"fill", "layer_side"})

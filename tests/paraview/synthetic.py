@@ -39,10 +39,11 @@ def lattice_ball(radius, dx, dimension):
 
 
 def make_frame(points, dx, dimension, time=0.0, step=0, kernel="wendland_c2", h_over_dx=1.3, rho0=1000.0,
-               c0=20.0, kind=None, velocity=None, pressure=None, density=None, ids=None, normal=None):
+               c0=20.0, kind=None, velocity=None, pressure=None, density=None, ids=None, normal=None, body=None):
     n = len(points)
     h = h_over_dx * dx
-    return {
+    extra = {} if body is None else {"body": np.asarray(body, dtype=np.int32)}
+    return {**extra,
         "points": np.asarray(points, dtype=float),
         "velocity": np.zeros((n, 3)) if velocity is None else np.asarray(velocity, dtype=float),
         "density": np.full(n, rho0) if density is None else np.asarray(density, dtype=float),
@@ -80,11 +81,12 @@ def _grid(fr):
     for v in fr["id"]:
         a.InsertNextValue(int(v))
     pd.AddArray(a)
-    a = vtkIntArray()
-    a.SetName("kind")
-    for v in fr["kind"]:
-        a.InsertNextValue(int(v))
-    pd.AddArray(a)
+    for name in ("kind", "body") if "body" in fr else ("kind",):
+        a = vtkIntArray()
+        a.SetName(name)
+        for v in fr[name]:
+            a.InsertNextValue(int(v))
+        pd.AddArray(a)
     fd = ug.GetFieldData()
     for k, v in fr["fields"].items():
         if k == "kernel":
@@ -185,6 +187,43 @@ def dam_break_run(run_dir, nframes=4, dimension=2, dx=0.02, name="dam", with_wal
         frames.append(make_frame(pts, dx, dimension, time=t, step=100 * k, kind=kind, velocity=velocity,
                                  pressure=pres, normal=normal, kernel=kernel))
     return write_run(run_dir, frames, name=name, probes=probes)
+
+
+def tank3d_run(run_dir, nframes=3, dx=0.02, name="tank3d", with_body=True, layers=2, times=None, every=None):
+    """A 3D run a user would make (issue 35): a tall open-top box tank (body 1, ``layers`` layers outside its
+    walls) holding a shallow block of water (body 0) and a block obstacle standing in it (body 2). The water
+    spreads with time as in dam_break_run; pressure hydrostatic. ``with_body=False``: frames without `body`.
+    ``times``: the frames' times (default 0.1 k); ``every``: output.every written to run.json."""
+    L, W, Ht = 0.4, 0.3, 0.4                    # tank inside [0, L] x [0, W] x [0, Ht]
+    n_in = (int(round(L / dx)), int(round(W / dx)), int(round(Ht / dx)))
+    tank = lattice_block((n_in[0] + 2 * layers, n_in[1] + 2 * layers, n_in[2] + layers), dx,
+                         (-layers * dx, -layers * dx, -layers * dx))
+    inside = np.all((tank > 0) & (tank < np.array([L, W, 10.0])), axis=1)
+    tank = tank[~inside]
+    obstacle = lattice_block((3, 3, 8), dx, (0.28, 0.12, 0.0))
+    base = lattice_block((8, n_in[1], 6), dx)      # water against the x = 0 wall, 0.12 m deep
+    H = 6 * dx
+    frames = []
+    for k in range(nframes):
+        t = 0.1 * k if times is None else times[k]
+        s = 1.0 + 1.0 * t
+        p = base.copy()
+        p[:, 0] *= s
+        p[:, 2] /= s
+        pts = np.concatenate([p, tank, obstacle])
+        nf, nt = len(p), len(tank)
+        kind = np.concatenate([np.zeros(nf), np.ones(nt + len(obstacle))])
+        body = np.concatenate([np.zeros(nf), np.ones(nt), np.full(len(obstacle), 2)])
+        vel = np.zeros_like(pts)
+        vel[:nf, 0] = base[:, 0]
+        pres = 1000.0 * 9.81 * np.clip(H / s - pts[:, 2], 0, None)
+        frames.append(make_frame(pts, dx, 3, time=t, step=100 * k, kind=kind, velocity=vel, pressure=pres,
+                                 body=body if with_body else None))
+    pvd = write_run(run_dir, frames, name=name, probes=False)
+    with open(os.path.join(run_dir, "run.json"), "w") as f:    # the vertical axis comes from gravity
+        f.write('{"scene": {"name": "%s", "dimension": 3, "gravity": [0, 0, -9.81]%s}}\n'
+                % (name, ', "output": {"every": %r}' % every if every else ""))
+    return pvd
 
 
 def write_pvtu(path, frame, nparts=2):

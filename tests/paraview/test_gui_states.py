@@ -4,7 +4,10 @@ PV_PLUGIN_PATH, the Python 3.11 shim installed by install_compat.py --user. Chec
 no error or warning line; the GUI holds one layout with one view; the fluid is in view, fitted, drawn as Point
 Gaussian discs of diameter dx, the colour bar beside it, the time annotated; the screenshot taken in the GUI
 shows the fluid (its region differs from the background). Deviation: the last common time, said in the view.
-Usage: pvpython test_gui_states.py {free_surface|pressure|deviation} {py|pvsm}"""
+With ``3d`` (issue 35): the runs are a tall 3D tank around shallow water and an obstacle (synthetic.tank3d_run),
+and the GUI's screenshot must show the water: at least 5 % of the view left of the colour bar in the fluid's
+colour map (viewcheck.colourmap_share; the walls drawn whole, as before issue 35, give 0.0 %: test_view3d.py).
+Usage: pvpython test_gui_states.py {free_surface|pressure|deviation} {py|pvsm} [3d]"""
 import os
 import sys
 
@@ -14,10 +17,15 @@ import synthetic as S
 import viewcheck as C
 
 name, flavour = sys.argv[1], sys.argv[2]
-tmp = T.workdir("gui_%s_%s" % (name, flavour))
+three = sys.argv[3:] == ["3d"]
+tmp = T.workdir("gui_%s_%s%s" % (name, flavour, "_3d" if three else ""))
 a, b = os.path.join(tmp, "run a"), os.path.join(tmp, "run_b")
-S.dam_break_run(a, nframes=4, dx=0.02)
-S.dam_break_run(b, nframes=3, dx=0.02, shift=(0.004, 0.0, 0.0))     # B ends at 0.2 s, A at 0.3 s
+if three:
+    S.tank3d_run(a, nframes=4, dx=0.02)
+    S.tank3d_run(b, nframes=3, dx=0.02)
+else:
+    S.dam_break_run(a, nframes=4, dx=0.02)
+    S.dam_break_run(b, nframes=3, dx=0.02, shift=(0.004, 0.0, 0.0))     # B ends at 0.2 s, A at 0.3 s
 env = {"VARSPH_RUN_DIR": a, "VARSPH_OTHER_RUN_DIR": b, "PV_PLUGIN_PATH": os.path.join(T.PARAVIEW_DIR, "plugin"),
        "PYTHONUSERBASE": gui.shim_userbase(tmp)}
 state = os.path.join(T.PARAVIEW_DIR, "states", "%s.%s" % (name, flavour))
@@ -39,6 +47,10 @@ if rep and rep.get("ok"):
         frac, wh = C.image_check(shot, rep["fluid_box_px"])
         T.check(frac > 0.3, "GUI screenshot %dx%d: %.0f %% of the fluid region differs from the background"
                 % (wh[0], wh[1], 100 * frac))
+        if three:
+            share = C.colourmap_share(shot, rep["lut_colours"], rep["bar_position"][0] - 0.01)
+            T.check(share >= 0.05, "3D run in the GUI: %.1f %% of the view left of the bar in the fluid's colour "
+                    "map (>= 5 %%)" % (100 * share))
     else:
         T.check(False, "the GUI wrote a screenshot")
 T.finish(tmp)

@@ -51,6 +51,7 @@ def inspect(simple=None):
             lut = s.GetColorTransferFunction(arr)
             pts = list(lut.RGBPoints)
             rep["colour_range"] = [pts[0], pts[-4]]
+            rep["lut_colours"] = lut_colours(lut)
             bar = s.GetScalarBar(lut, view)
             rep["bar_visible"] = bool(bar.Visibility)
             rep["bar_position"] = list(bar.Position)
@@ -118,3 +119,42 @@ def image_check(path, box_px):
     background = np.array([255, 255, 255])   # the states draw on white
     differs = np.abs(region - background).sum(axis=2) > 30
     return float(differs.mean()), (w, h)
+
+
+def lut_colours(lut, n=128):
+    """``n`` RGB colours (0..1) evenly over a colour transfer function proxy's range."""
+    o = lut.GetClientSideObject()
+    o.Build()
+    lo, hi = o.GetRange()
+    out = []
+    for x in np.linspace(lo, hi, n):
+        c = [0.0, 0.0, 0.0]
+        o.GetColor(float(x), c)
+        out.append(c)
+    return out
+
+
+def colourmap_share(path, colours, x_max=1.0, min_saturation=0.15, min_cosine=0.995):
+    """Share of the pixels of a PNG drawn in a colour map (``colours``: RGB samples of it, 0..1): pixels with
+    some colour (saturation (max - min)/max above ``min_saturation``: not the white background, grey walls,
+    black text) whose RGB direction is within acos(``min_cosine``) (5.7 degrees) of a colour of the map.
+    Direction, not value: shaded spheres darken a colour without turning it. The greys in the middle of a
+    diverging map are not counted (they cannot be told from walls). Only the image left of ``x_max`` (a
+    fraction of its width) is read: the colour bar, drawn in the map, sits right of it."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    r = vtkPNGReader()
+    r.SetFileName(path)
+    r.Update()
+    img = r.GetOutput()
+    w, h, _ = img.GetDimensions()
+    px = vtk_to_numpy(img.GetPointData().GetScalars()).reshape(h, w, -1)[:, :int(x_max * w), :3]
+    px = px.reshape(-1, 3).astype(float) / 255.0
+    mx, mn = px.max(axis=1), px.min(axis=1)
+    coloured = (mx > 0.08) & ((mx - mn) > min_saturation * np.maximum(mx, 1e-9))
+    c = np.asarray(colours, dtype=float)
+    c = c / np.maximum(np.linalg.norm(c, axis=1), 1e-9)[:, None]
+    p = px[coloured]
+    p = p / np.maximum(np.linalg.norm(p, axis=1), 1e-9)[:, None]
+    best = (p @ c.T).max(axis=1) if len(p) else np.zeros(0)
+    return float((best >= min_cosine).sum()) / float(len(px))

@@ -8,9 +8,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/source_dir.hpp"
+
 namespace varsph::test {
 
-inline std::filesystem::path source_dir() { return VARSPH_SOURCE_DIR; }
+// $VARSPH_SOURCE_DIR overrides the configured tree (a bundled test binary run elsewhere, scripts/device_check.sh)
+inline std::filesystem::path source_dir() { return source_dir_or(VARSPH_SOURCE_DIR); }
 inline std::filesystem::path binary_dir() { return VARSPH_BINARY_DIR; }
 inline std::filesystem::path varsph_exe() { return binary_dir() / "bin" / "varsph"; }
 
