@@ -14,6 +14,7 @@
 #include <omp.h>
 
 #include "core/errors.hpp"
+#include "bodies/body_table.hpp"
 #include "exec/device_run.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
@@ -120,6 +121,10 @@ class Runner {
     if (!ckpt) {
       write_frame(sim);
       if (!probes.empty()) write_probes(sim, probes);
+      if (auto* rb = sim.rigid_bodies()) {
+        rb->evaluate_loads(sim);  // the loads of the initial state (the state itself is not changed)
+        write_bodies(sim);
+      }
     }
     auto last_log = clock::now();
     std::string failure;
@@ -174,8 +179,9 @@ class Runner {
         if (sim.on_device() && has_load_probes()) sim.sync_host();  // they read the state every step
         probes.accumulate(sim);
       }
-      if (!probes.empty() && sim.time() >= next_probe_ - 0.5 * sim.dt()) {
-        write_probes(sim, probes);
+      if ((!probes.empty() || sim.rigid_bodies()) && sim.time() >= next_probe_ - 0.5 * sim.dt()) {
+        if (!probes.empty()) write_probes(sim, probes);
+        write_bodies(sim);
         if (scene_.probes_every > 0)
           while (next_probe_ <= sim.time() + 0.5 * sim.dt()) next_probe_ += scene_.probes_every;
       }
@@ -286,6 +292,11 @@ class Runner {
         std::vector<std::string> cols = {"time"};
         for (auto& c : probes.columns()) cols.push_back(c);
         probes_csv_.open(dir_.probes(), cols, keep_up_to);
+      }
+      if (sim.rigid_bodies()) {
+        bodies_csv_.open(dir_.bodies(), bodies::body_columns(), keep_up_to);
+        if (!sim.rigid_bodies()->moorings().empty())
+          moorings_csv_.open(dir_.moorings(), bodies::mooring_columns(), keep_up_to);
       }
     });
     if (ckpt && ckpt->header.runner_state.contains("health"))
@@ -488,6 +499,17 @@ class Runner {
     on_root([&] { probes_csv_.row(row); });
   }
 
+  // bodies.csv and moorings.csv rows of the state after the last step (rigid bodies only)
+  void write_bodies(Simulation<D>& sim) {
+    const auto* rb = sim.rigid_bodies();
+    if (!rb) return;
+    on_root([&] {
+      for (const auto& row : bodies::body_rows(*rb, sim.time())) bodies_csv_.row(row);
+      if (moorings_csv_.is_open())
+        for (const auto& row : bodies::mooring_rows(*rb, sim.time())) moorings_csv_.row(row);
+    });
+  }
+
   void warn_dt_bound(double dt, double bound, long step) {
     if (bound <= 0 || dt <= bound || warned_dt_bound_) return;
     warned_dt_bound_ = true;
@@ -660,6 +682,7 @@ class Runner {
   std::size_t static_count_ = 0;
   Probes<D>* probes_ = nullptr;  // the run loop's probes (their accumulation goes into checkpoints)
   io::CsvTable diag_, probes_csv_, removed_csv_;
+  io::CsvTable bodies_csv_, moorings_csv_;  // rigid bodies (bodies/body_table.hpp)
   HealthMonitor<D> health_;
   std::array<bool, kRemovalRules> warned_removal_{};
   double next_frame_ = 0, next_probe_ = 0, next_checkpoint_ = 0;
