@@ -27,6 +27,12 @@ double status_kb(const std::string& key) {
   return 0;
 }
 
+// frames of a run: t = 0, every output.every, and the last one at time.end when it is off that grid
+double frame_count(const scene::Scene& s) {
+  const double k = std::floor(s.t_end / s.output_every + 1e-9);
+  return k + 1 + (s.t_end - k * s.output_every > 1e-9 * s.t_end ? 1 : 0);
+}
+
 // bytes one particle adds to a frame: its output arrays, its point and its vertex cell (8 + 8 + 1)
 template <int D>
 double frame_bytes_per_particle(const scene::Scene& s, const Simulation<D>& sim) {
@@ -84,7 +90,7 @@ RunEstimate estimate(const scene::Scene& full, const scene::Scene& s, double k) 
   const double grown = std::max(0.0, status_kb("VmRSS") - rss0) * 1024.0 / std::max(n_built, 1.0);
   e.memory_bytes = std::max(grown, arrays) * n;
   // disk: every frame, the static walls once (output.static_boundary), two checkpoints kept
-  e.frames = std::floor(full.t_end / full.output_every + 1e-9) + 1;
+  e.frames = frame_count(full);
   const double per = frame_bytes_per_particle(full, sim);
   const auto is_static = static_bodies(full);
   double walls = 0;
@@ -118,6 +124,26 @@ std::string human_seconds(double s) {
 }
 
 }  // namespace
+
+template <int D>
+std::string disk_estimate_line(const scene::Scene& s, const Simulation<D>& sim) {
+  const auto& f = sim.fields();
+  std::vector<std::uint32_t> walls, rest;
+  split_static(f.kind.data, f.body.data, sim.size(),
+               s.output_static_boundary == "once" ? static_bodies(s) : std::vector<bool>(), walls, rest);
+  const double per = frame_bytes_per_particle(s, sim), frames = frame_count(s);
+  const double frame = per * double(rest.size()) + 2700, stat = walls.empty() ? 0 : per * double(walls.size()) + 2700;
+  double ckpt = 0;
+  for (const auto& fb : sim.store().fields())
+    if (fb->flags().checkpointed) ckpt += double(fb->bytes_per_particle());
+  ckpt *= double(sim.size());
+  return "estimate: " + std::to_string(std::llround(frames)) + " frames x " + human_bytes(frame) +
+         (stat > 0 ? " + the static walls once, " + human_bytes(stat) : std::string()) + " = " +
+         human_bytes(frames * frame + stat) + " of frames, 2 checkpoints x " + human_bytes(ckpt) +
+         " (varsph info estimates memory and time too)";
+}
+template std::string disk_estimate_line<2>(const scene::Scene&, const Simulation<2>&);
+template std::string disk_estimate_line<3>(const scene::Scene&, const Simulation<3>&);
 
 RunEstimate estimate_run(const scene::Scene& s, const std::vector<std::string>& overrides,
                          const EstimateLimits& limits) {

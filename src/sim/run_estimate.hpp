@@ -34,6 +34,14 @@ struct RunEstimate {
 RunEstimate estimate_run(const scene::Scene& s, const std::vector<std::string>& overrides,
                          const EstimateLimits& limits);
 
+template <int D>
+class Simulation;
+
+// One line for the start of `varsph run`: the disk its frames and checkpoints will take (no calibration:
+// the particles of `sim`, the scene's output settings).
+template <int D>
+std::string disk_estimate_line(const scene::Scene& s, const Simulation<D>& sim);
+
 // The lines `varsph info` prints, and the warnings of the limits (appended to `warnings`).
 std::string describe_estimate(const scene::Scene& s, const RunEstimate& e, const EstimateLimits& limits,
                               std::vector<std::string>& warnings);
