@@ -16,6 +16,9 @@ Writes (and prints each path):
                                   their case (a column of H/L = 2 against a wall on a floor; varsph/casefit.py)
                                   or with --front-reference (measured: those; FILE.csv: columns T,Z)
   momentum.csv, momentum_Q.png    time,momentum_x,momentum_y,momentum_z,momentum_Q and Q(t) (+ run B)
+  body_<N>_motion.png, body_<N>_loads.png, moorings.png
+                                  runs with rigid bodies (bodies.csv): plot_bodies.py; --body-reference overlays
+                                  a measured motion
   deviation.csv/.png              with --compare: time,D_max,D_mean,D_rms over the common times (eq. 70)
   scene_diff.txt                  with --compare: the resolved scene keys in which the runs differ
   free_surface_t<T>.png, pressure_t<T>.png, pressure_smoothed_t<T>.png (raw | smoothed), deviation_t<T>.png
@@ -248,6 +251,8 @@ def main(argv=None):
                          "FILE: columns T,Z) even where the run is not their dam-break case; repeatable")
     ap.add_argument("--probe-points", default=None, help="pressure from the frames at 'x,y[,z];...' (output rate)")
     ap.add_argument("--no-snapshots", action="store_true", help="skip the ParaView pictures")
+    ap.add_argument("--body-reference", default=None, metavar="FILE[:quantity=y][:scale_t=..][:scale_v=..]",
+                    help="a measured body motion to overlay on body_N_motion.png (plot_bodies.py)")
     a = ap.parse_args(argv)
     if os.path.isfile(os.path.join(a.run, "study.json")):  # a `varsph study` directory: every level side by side
         import study_levels
@@ -292,6 +297,15 @@ def main(argv=None):
         print("%s is not the measured dam-break case (%s)%s" % (label_of(a.run), why,
               "; skipped " + ", ".join(skipped) if skipped else ""))
     momentum(runs, post)
+    if os.path.isfile(os.path.join(a.run, "bodies.csv")):  # rigid bodies: motion and loads (plot_bodies.py)
+        import plot_bodies
+        try:
+            ref = plot_bodies.parse_reference(a.body_reference) if a.body_reference else None
+        except (OSError, ValueError) as e:
+            print("postprocess: error: %s" % e, file=sys.stderr)
+            return 2
+        for path in plot_bodies.figures(a.run, post, ref):
+            note(path)
     if a.probe_points:
         pts = [floats(p) + [0.0] * (3 - len(floats(p))) for p in a.probe_points.split(";") if p.strip()]
         t, v = probe.probe_series(a.run, pts, frames=loaded)

@@ -23,4 +23,10 @@ for f in probes_pressure.png front_dimensionless.png momentum_Q.png deviation.pn
   cp $R/verlet/post/$f $T/$f
 done
 cat $R/verlet/post/scene_diff.txt   # quoted in docs/tutorial.md
+# part 2: your own mesh in 3D (about 30 s)
+$V sample $T/torus_3d.json -o $R/torus_sample --overwrite     # per-body counts and boxes quoted in docs/tutorial.md
+$V run $T/torus_3d.json -o $R/torus --overwrite --quiet --threads 1
+"${X[@]}" pvpython paraview/states/free_surface.py $R/torus_sample --screenshot $T/torus_sample.png --size 1000,600
+"${X[@]}" pvpython paraview/states/pressure.py $R/torus --time 0.3 --screenshot $T/torus_pressure_t0.3.png \
+  --size 1000,600
 echo "pictures in $T/"

@@ -97,8 +97,53 @@ def frame_from_vtk(dataset, time=None, path=None):
     return Frame(points, arrays, fields, time=time, path=path)
 
 
+_EXTRA_PARTS = {}    # frame file -> the other parts of its time step in the .pvd (read_pvd)
+_STATIC_CACHE = {}   # static walls file -> (mtime, dataset): written once per run, read for every frame
+
+
+def _static_walls(path):
+    """The dataset of a static-walls file (output.static_boundary = "once"), read once per change."""
+    mtime = os.path.getmtime(path)
+    hit = _STATIC_CACHE.get(path)
+    if hit is None or hit[0] != mtime:
+        hit = (mtime, _read_one(path))
+        _STATIC_CACHE[path] = hit
+    return hit[1]
+
+
 def read_dataset(path):
-    """The vtkDataSet of one frame file: .vtu, or .pvtu pieces (merged by VTK's parallel reader), or any
+    """The vtkDataSet of one frame: the frame file (.vtu, .pvtu pieces, any VTK XML dataset a .pvd lists)
+    with the other parts of its time step appended: the static walls a lean frame names in its field data
+    `static_boundary` (output.static_boundary = "once", issue 35) and any further part the .pvd lists."""
+    ds = _read_one(path)
+    fd = ds.GetFieldData()
+    name = fd.GetAbstractArray("static_boundary") if fd is not None else None
+    extras = []
+    if name is not None and name.GetNumberOfValues():
+        extras.append(os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(path)), name.GetValue(0))))
+    for p in _EXTRA_PARTS.get(os.path.normpath(os.path.abspath(path)), []):
+        if p not in extras:
+            extras.append(p)
+    if not extras:
+        return ds
+    from vtkmodules.vtkFiltersCore import vtkAppendFilter
+    app = vtkAppendFilter()
+    app.MergePointsOff()
+    app.AddInputData(ds)
+    for p in extras:
+        if not os.path.isfile(p):
+            raise FileNotFoundError("%s: the static walls file it names is missing: %s" % (path, p))
+        app.AddInputData(_static_walls(p))
+    app.Update()
+    out = app.GetOutput()
+    out.GetFieldData().ShallowCopy(fd)       # time, dx, ... of the frame
+    own = out.NewInstance()
+    own.ShallowCopy(out)
+    return own
+
+
+def _read_one(path):
+    """The vtkDataSet of one file: .vtu, or .pvtu pieces (merged by VTK's parallel reader), or any
     other VTK XML dataset a .pvd may list."""
     from vtkmodules.vtkIOXML import (vtkXMLGenericDataObjectReader, vtkXMLPUnstructuredGridReader,
                                      vtkXMLUnstructuredGridReader)
@@ -180,12 +225,19 @@ def read_pvd(path):
         raise FileNotFoundError("pvd file not found: %s" % path)
     root = ET.parse(path).getroot()
     base = os.path.dirname(os.path.abspath(path))
-    out = []
+    out, first = [], {}
     for ds in root.iter("DataSet"):
         f = ds.get("file")
         if f is None:
             continue
-        out.append((float(ds.get("timestep", "0")), os.path.normpath(os.path.join(base, f))))
+        t, p = float(ds.get("timestep", "0")), os.path.normpath(os.path.join(base, f))
+        if t in first:   # another part of this time step (a lean frame's static walls): read with the frame
+            extra = _EXTRA_PARTS.setdefault(first[t], [])
+            if p not in extra:
+                extra.append(p)
+            continue
+        first[t] = p
+        out.append((t, p))
     out.sort(key=lambda x: x[0])
     return out
 

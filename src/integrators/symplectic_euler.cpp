@@ -11,6 +11,7 @@ StepReport SymplecticEulerIntegrator<D>::step(Simulation<D>& sim) {
   sim.rates().acceleration(sim.grid(), sim.current_view(), f.a.data.data());
   sim.set_dt(sim.choose_dt());
   const Real dt = Real(sim.dt());
+  sim.advance_bodies(dt, 1.0);  // rigid bodies: V += dt F/M, X += dt V (the fluid's kick and drift)
   Vec<D>* x = f.x.data.data();
   Vec<D>* v = f.v.data.data();
   const Vec<D>* a = f.a.data.data();

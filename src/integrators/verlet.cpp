@@ -18,6 +18,7 @@ void verlet_step(Simulation<D>& sim) {
   sim.rates().acceleration(sim.grid(), sim.current_view(), f.a.data.data());  // eq. (59)
   sim.set_dt(sim.choose_dt());
   const Real dt = Real(sim.dt());
+  sim.advance_bodies(dt, 1.0);  // rigid bodies: eq. (61)-(62) for their centre and rotation
   Vec<D>* x = f.x.data.data();
   Vec<D>* v = f.v.data.data();
   const Vec<D>* a = f.a.data.data();

@@ -28,6 +28,8 @@ StepReport VerletDsphIntegrator<D>::step(Simulation<D>& sim) {
     steps_since_euler_ = euler_now_ ? 0 : steps_since_euler_ + 1;
   });
   const bool euler = euler_now_;
+  // rigid bodies: V += dt A, X += dt V + dt^2/2 A (the Taylor drift the fluid uses below)
+  sim.advance_bodies(dt, 0.5);
   Vec<D>* x = f.x.data.data();
   Vec<D>* v = f.v.data.data();
   Real* rho = f.rho.data.data();

@@ -22,6 +22,12 @@ struct FrameData {
   bool float64 = false;  // output.precision
   // particles written: the first `count` of the store (a distributed run's owned ones); npos = all
   std::size_t count = std::size_t(-1);
+  // when set, only these particles (store indices, each < count) are written, in this order: a lean frame
+  // without the static walls, or the static walls alone (output.static_boundary, issue 35)
+  const std::vector<std::uint32_t>* select = nullptr;
+  // field data `static_boundary`: the file, relative to this frame's folder, that holds the static boundary
+  // particles this frame leaves out ("" = none: the frame holds every particle)
+  std::string static_file;
   // field data
   double time = 0, dx = 0, h = 0, rho0 = 0, c0 = 0, support_radius = 0;
   std::int64_t step = 0;

@@ -32,9 +32,9 @@ double frame_time_label(double t, double every) {
   return std::strtod(buf, nullptr);
 }
 
-void PvdSeries::add(double time, const std::string& relative_file) {
+void PvdSeries::add(double time, const std::string& relative_file, const std::string& static_file) {
   truncate_after(time - 1e-12);
-  entries_.push_back({time, relative_file});
+  entries_.push_back({time, relative_file, static_file});
   write();
 }
 
@@ -50,7 +50,9 @@ void PvdSeries::load() {
   const std::regex re(R"re(timestep="([^"]+)".*file="([^"]+)")re");
   while (std::getline(in, line)) {
     std::smatch m;
-    if (std::regex_search(line, m, re)) entries_.push_back({std::stod(m[1]), m[2]});
+    if (!std::regex_search(line, m, re)) continue;
+    if (line.find("part=\"1\"") != std::string::npos && !entries_.empty()) entries_.back().static_file = m[2];
+    else entries_.push_back({std::stod(m[1]), m[2], ""});
   }
 }
 
@@ -58,8 +60,12 @@ void PvdSeries::write() const {
   std::ostringstream out;
   out << "<?xml version=\"1.0\"?>\n"
       << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
-  for (const auto& e : entries_)
+  for (const auto& e : entries_) {
     out << "    <DataSet timestep=\"" << shortest(e.time) << "\" group=\"\" part=\"0\" file=\"" << e.file << "\"/>\n";
+    if (!e.static_file.empty())
+      out << "    <DataSet timestep=\"" << shortest(e.time) << "\" group=\"\" part=\"1\" file=\"" << e.static_file
+          << "\"/>\n";
+  }
   out << "  </Collection>\n</VTKFile>\n";
   write_text_atomically(path_, out.str());
 }

@@ -17,8 +17,10 @@ double frame_time_label(double t, double every);
 class PvdSeries {
  public:
   explicit PvdSeries(std::filesystem::path path) : path_(std::move(path)) {}
-  // Adds (or, for a restart, replaces every entry at or after `time`) and rewrites the file.
-  void add(double time, const std::string& relative_file);
+  // Adds (or, for a restart, replaces every entry at or after `time`) and rewrites the file. `static_file`
+  // (issue 35, output.static_boundary = "once"): the static walls the frame leaves out, listed as part 1 of
+  // the same time step, so that ParaView's own .pvd reader shows both.
+  void add(double time, const std::string& relative_file, const std::string& static_file = "");
   // Drops entries with time > t (restart in the same directory), without writing.
   void truncate_after(double t);
   // Reads an existing series (restart); missing file = empty series.
@@ -31,6 +33,7 @@ class PvdSeries {
   struct Entry {
     double time;
     std::string file;
+    std::string static_file;  // part 1, or ""
   };
   std::filesystem::path path_;
   std::vector<Entry> entries_;

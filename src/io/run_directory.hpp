@@ -21,6 +21,8 @@ struct RunDirectory {
   std::filesystem::path diagnostics() const { return root / "diagnostics.csv"; }
   std::filesystem::path probes() const { return root / "probes.csv"; }
   std::filesystem::path removed() const { return root / "removed.csv"; }  // particles removed by health.*
+  std::filesystem::path bodies() const { return root / "bodies.csv"; }      // rigid bodies (kind "rigid")
+  std::filesystem::path moorings() const { return root / "moorings.csv"; }  // their moorings
   std::filesystem::path checkpoints() const { return root / "checkpoints"; }
   std::filesystem::path run_json() const { return root / "run.json"; }
   std::filesystem::path post() const { return root / "post"; }

@@ -52,23 +52,25 @@ std::size_t type_bytes(ScalarType t, bool float64) {
   }
 }
 
+// particles first .. first + count of the written sequence: store rows first + i, or sel[first + i]
 template <class In, class Out>
-void convert(const In* in, int fc, int oc, std::size_t first, std::size_t count, Out* out) {
+void convert(const In* in, int fc, int oc, std::size_t first, std::size_t count, Out* out, const std::uint32_t* sel) {
   for (std::size_t i = 0; i < count; ++i) {
-    const In* src = in + (first + i) * std::size_t(fc);
+    const In* src = in + (sel ? std::size_t(sel[first + i]) : first + i) * std::size_t(fc);
     Out* dst = out + i * std::size_t(oc);
     for (int c = 0; c < oc; ++c) dst[c] = c < fc ? Out(src[c]) : Out(0);
   }
 }
 
 template <class Out>
-void convert_field(const FieldBase& f, int oc, std::size_t first, std::size_t count, Out* out) {
+void convert_field(const FieldBase& f, int oc, std::size_t first, std::size_t count, Out* out,
+                   const std::uint32_t* sel) {
   const int fc = f.components();
   switch (f.scalar_type()) {
-    case ScalarType::Float64: convert(static_cast<const double*>(f.raw()), fc, oc, first, count, out); break;
-    case ScalarType::Float32: convert(static_cast<const float*>(f.raw()), fc, oc, first, count, out); break;
-    case ScalarType::Int64: convert(static_cast<const std::int64_t*>(f.raw()), fc, oc, first, count, out); break;
-    case ScalarType::Int32: convert(static_cast<const std::int32_t*>(f.raw()), fc, oc, first, count, out); break;
+    case ScalarType::Float64: convert(static_cast<const double*>(f.raw()), fc, oc, first, count, out, sel); break;
+    case ScalarType::Float32: convert(static_cast<const float*>(f.raw()), fc, oc, first, count, out, sel); break;
+    case ScalarType::Int64: convert(static_cast<const std::int64_t*>(f.raw()), fc, oc, first, count, out, sel); break;
+    case ScalarType::Int32: convert(static_cast<const std::int32_t*>(f.raw()), fc, oc, first, count, out, sel); break;
   }
 }
 
@@ -145,6 +147,13 @@ std::string field_data_xml(const FrameData& frame, const std::string& indent) {
     codes += "0";
     xml += indent + "<Array type=\"String\" Name=\"kernel\" NumberOfTuples=\"1\" format=\"ascii\">" + codes + "</Array>\n";
   }
+  if (!frame.static_file.empty()) {  // where the static walls this frame leaves out are (issue 35)
+    std::string codes;
+    for (unsigned char ch : frame.static_file) codes += std::to_string(int(ch)) + " ";
+    codes += "0";
+    xml += indent + "<Array type=\"String\" Name=\"static_boundary\" NumberOfTuples=\"1\" format=\"ascii\">" +
+           codes + "</Array>\n";
+  }
   return xml;
 }
 
@@ -152,7 +161,8 @@ std::string field_data_xml(const FrameData& frame, const std::string& indent) {
 
 void write_vtu(const std::string& path, const FrameData& frame) {
   const FieldBase& pos = *frame.positions;
-  const std::size_t n = std::min(pos.size(), frame.count);
+  const std::size_t n = frame.select ? frame.select->size() : std::min(pos.size(), frame.count);
+  const std::uint32_t* sel = frame.select ? frame.select->data() : nullptr;
   const bool f64 = frame.float64;
 
   std::vector<OutArray> point_arrays;
@@ -206,10 +216,10 @@ void write_vtu(const std::string& path, const FrameData& frame) {
         const std::size_t cnt = std::min(per_chunk, n - first);
         if (a.field) {
           const int oc = a.out_components;
-          if (std::strcmp(a.vtk_type, "Float64") == 0) convert_field(*a.field, oc, first, cnt, reinterpret_cast<double*>(buf.get()));
-          else if (std::strcmp(a.vtk_type, "Float32") == 0) convert_field(*a.field, oc, first, cnt, reinterpret_cast<float*>(buf.get()));
-          else if (std::strcmp(a.vtk_type, "Int64") == 0) convert_field(*a.field, oc, first, cnt, reinterpret_cast<std::int64_t*>(buf.get()));
-          else convert_field(*a.field, oc, first, cnt, reinterpret_cast<std::int32_t*>(buf.get()));
+          if (std::strcmp(a.vtk_type, "Float64") == 0) convert_field(*a.field, oc, first, cnt, reinterpret_cast<double*>(buf.get()), sel);
+          else if (std::strcmp(a.vtk_type, "Float32") == 0) convert_field(*a.field, oc, first, cnt, reinterpret_cast<float*>(buf.get()), sel);
+          else if (std::strcmp(a.vtk_type, "Int64") == 0) convert_field(*a.field, oc, first, cnt, reinterpret_cast<std::int64_t*>(buf.get()), sel);
+          else convert_field(*a.field, oc, first, cnt, reinterpret_cast<std::int32_t*>(buf.get()), sel);
         } else if (a.gen == OutArray::Gen::Types) {
           std::memset(buf.get(), 1, cnt);  // VTK_VERTEX
         } else {

@@ -87,9 +87,10 @@ class HaloRates final : public physics::Rates<D> {
   bool fused() const override { return inner_->fused(); }
   const char* simd() const override { return inner_->simd(); }
   bool splits_by_blocks() const override { return inner_->splits_by_blocks(); }
-  void boundary_reaction(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, Vec<D>* force) const override {
-    refresh(s, kAll);  // probes only: not split
-    inner_->boundary_reaction(g, s, force);
+  void boundary_reaction(const NeighborGrid<D>& g, const physics::ParticleView<D>& s, Vec<D>* force,
+                         physics::BoundaryFilter only) const override {
+    refresh(s, kAll);  // probes and rigid bodies: not split
+    inner_->boundary_reaction(g, s, force, only);
   }
   Real support() const override { return inner_->support(); }
   Real kernel_w(Real r) const override { return inner_->kernel_w(r); }

@@ -12,6 +12,7 @@
 #include "physics/density_diffusion.hpp"
 #include "physics/eos.hpp"
 #include "physics/laminar_viscosity.hpp"
+#include "physics/boundary_filter.hpp"
 #include "physics/particle_view.hpp"
 #include "physics/physics_params.hpp"
 #include "physics/repulsive_wall.hpp"
@@ -188,7 +189,8 @@ struct BoundaryReactionPass {
   const AccPass& acc_pass;
   const ParticleView<D>& s;
   Vec<D>* force;
-  VARSPH_HD bool active(std::size_t b) const { return s.kind[b] != kFluid; }
+  BoundaryFilter only = {};  // empty: every boundary particle; else those of the bodies it selects
+  VARSPH_HD bool active(std::size_t b) const { return s.kind[b] != kFluid && only.selects(b); }
   VARSPH_HD Vec<D> begin(std::size_t) const { return Vec<D>::Zero(); }
   VARSPH_HD void pair(Vec<D>& f, std::size_t b, std::size_t i, const Vec<D>& x_bi, Real r2) const {
     if (s.kind[i] != kFluid) return;

@@ -3,10 +3,12 @@
 // is instantiated for the scene's kernel; the viscosity, wall and density-diffusion policies are picked
 // once at construction (make_rates()), each combination a separately compiled pass.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 
 #include "neighbors/neighbor_grid.hpp"
+#include "physics/boundary_filter.hpp"
 #include "physics/particle_view.hpp"
 #include "physics/physics_params.hpp"
 #include "physics/wall_geometry.hpp"
@@ -42,7 +44,9 @@ class Rates {
   // instruction set of the vectorised pair sweep in use where it covers the scene's terms ("scalar": none)
   virtual const char* simd() const { return "scalar"; }
   // force of the fluid on every boundary particle (BoundaryReactionPass; fluid slots untouched) [N]
-  virtual void boundary_reaction(const NeighborGrid<D>& grid, const ParticleView<D>& s, Vec<D>* force) const = 0;
+  // `only`: the boundary particles to compute (rigid bodies); default every one.
+  virtual void boundary_reaction(const NeighborGrid<D>& grid, const ParticleView<D>& s, Vec<D>* force,
+                                 BoundaryFilter only = {}) const = 0;
   virtual Real support() const = 0;
   virtual Real kernel_w(Real r) const = 0;  // W(r), for probes and tests
 

@@ -68,8 +68,9 @@ class RatesImpl final : public Rates<D> {
       });
     }
   }
-  void boundary_reaction(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* force) const override {
-    react_fn_(*this, g, s, force);
+  void boundary_reaction(const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* force,
+                         BoundaryFilter only) const override {
+    react_fn_(*this, g, s, force, only);
   }
   Real support() const override { return W_.support(); }
   Real kernel_w(Real r) const override { return r < W_.support() ? W_.w_r2(r * r) : Real(0); }
@@ -115,6 +116,7 @@ class RatesImpl final : public Rates<D> {
 
  private:
   using AccFn = void (*)(const RatesImpl&, const NeighborGrid<D>&, const ParticleView<D>&, Vec<D>*);
+  using ReactFn = void (*)(const RatesImpl&, const NeighborGrid<D>&, const ParticleView<D>&, Vec<D>*, BoundaryFilter);
   using RhoFn = void (*)(const RatesImpl&, const NeighborGrid<D>&, const ParticleView<D>&, Real*);
 
   template <class Visc>
@@ -173,11 +175,12 @@ class RatesImpl final : public Rates<D> {
   }
   // force of the fluid on boundary particles from the same pair terms (probes)
   template <class Visc, BoundaryModel M>
-  static void run_react(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* f) {
+  static void run_react(const RatesImpl& r, const NeighborGrid<D>& g, const ParticleView<D>& s, Vec<D>* f,
+                        BoundaryFilter only) {
     const Visc visc = r.template viscosity<Visc>();
     using Acc = AccelerationPass<D, Kernel, Visc, M>;
     const Acc acc{r.W_, visc, r.wall_, s, r.g_eff_, nullptr, &r.soft_, r.pressure_terms(s)};
-    BoundaryReactionPass<D, Acc> pass{acc, s, f};
+    BoundaryReactionPass<D, Acc> pass{acc, s, f, only};
     for_each_particle_pairs<D>(g, s.x, r.W_.support(), pass);
   }
   // the fused continuity + acceleration sweep (FusedRatesPass), same terms as run_drho + run_acc
@@ -351,7 +354,8 @@ class RatesImpl final : public Rates<D> {
   Vec<D> g_eff_ = Vec<D>::Zero();
   bool damping_on_ = false;
   bool vector_covered_ = false;  // the main sweep (fused, else acceleration) has a vector twin: simd()
-  AccFn acc_fn_ = nullptr, react_fn_ = nullptr;
+  AccFn acc_fn_ = nullptr;
+  ReactFn react_fn_ = nullptr;
   mutable std::vector<Real> p_over_rho2_;  // scratch of the acceleration pass
   mutable std::vector<Real> volume_;       // scratch of the density-diffusion term
   mutable std::vector<Vec<D>> grad_rho_;   // scratch: renormalised density gradients (Antuono diffusion)

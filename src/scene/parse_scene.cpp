@@ -5,6 +5,7 @@
 #include "core/errors.hpp"
 #include "scene/json_reader.hpp"
 #include "scene/parse_health.hpp"
+#include "scene/parse_rigid.hpp"
 #include "scene/sanity.hpp"
 #include "scene/scene.hpp"
 
@@ -20,9 +21,12 @@ BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
                        "velocity", "initial_pressure", "free_surface", "pressures", "mesh", "fill", "layer_side",
                        "transform", "section", "clip_min", "clip_max", "allow_self_intersections", "motion"});
   BodySpec b;
-  b.kind = r.choice(at(base, "kind"), std::nullopt, {"fluid", "boundary"});
+  b.kind = r.choice(at(base, "kind"), std::nullopt, {"fluid", "boundary", "rigid"});
   b.shape = r.choice(at(base, "shape"), r.has(at(base, "mesh")) ? std::optional<std::string>("mesh") : std::nullopt,
-                     {"box", "tank", "sphere", "points", "mesh"});
+                     {"box", "tank", "sphere", "cylinder", "points", "mesh"});
+  if (b.shape == "cylinder" && b.kind != "rigid") r.fail(at(base, "shape"), "\"cylinder\" only for a rigid body");
+  if (b.kind == "rigid" && (b.shape == "tank" || b.shape == "points"))
+    r.fail_got(at(base, "shape"), "\"box\", \"sphere\", \"cylinder\" or \"mesh\" for a rigid body", json(b.shape));
   const std::vector<double> zero(dim, 0.0);
   b.velocity = r.vector(at(base, "velocity"), dim, zero, "initial velocity [m/s]");
   if (b.shape == "box" || b.shape == "tank") {
@@ -38,7 +42,7 @@ BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
     def[2 * (dim - 1) + 1] = true;  // open top by default
     b.open = r.bools(at(base, "open"), 2 * dim, def);
   }
-  if (b.shape == "sphere") {
+  if (b.shape == "sphere" || b.shape == "cylinder") {
     b.center = r.vector(at(base, "center"), dim, std::nullopt, "centre [m]");
     b.radius = r.positive(at(base, "radius"), std::nullopt, "radius [m]");
   }
@@ -81,6 +85,7 @@ BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
     // validated with its law by sim/boundary_motion.cpp (errors name bodies.N.motion.KEY)
     if (r.raw(at(base, "motion"))) b.motion = r.subtree(at(base, "motion"), json());  // null: fixed
   }
+  if (b.kind == "rigid") parse_rigid_body(r, base, dim, b);  // scene/parse_rigid.cpp
   if (b.kind == "fluid") {
     b.initial_pressure = r.choice(at(base, "initial_pressure"), "zero", {"zero", "hydrostatic"});
     if (b.initial_pressure == "hydrostatic") {
@@ -156,6 +161,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
     }
   }
   if (!any_fluid) r.fail("bodies", "at least one body with \"kind\": \"fluid\"");
+  parse_moorings_and_contact(r, s);  // scene/parse_rigid.cpp
 
   // speed of sound: a number, or "auto" = factor x max(sqrt(2 g H), reference speed)
   const double g = std::sqrt([&] { double q = 0; for (double x : s.gravity) q += x * x; return q; }());
@@ -295,6 +301,9 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
                                "rk4, verlet_dsph); integrator.type \"" + s.integrator + "\" does not shift particles");
   if (!s.dt && !s.cfl) r.fail("integrator.dt", "integrator.dt [s] or integrator.cfl (one of them is required)");
   if (s.dt && s.cfl) r.fail("integrator.cfl", "only one of integrator.dt and integrator.cfl");
+  if (s.has_rigid_bodies() && s.integrator != "verlet" && s.integrator != "symplectic_euler" && s.integrator != "verlet_dsph")
+    r.fail_got("integrator.type", "\"symplectic_euler\", \"verlet\" or \"verlet_dsph\" with rigid bodies (the bodies "
+                                  "are not advanced inside the other schemes' stages yet; docs/bodies.md)", json(s.integrator));
   s.alpha = r.number("integrator.alpha", s.integrator == "variational" ? 0.5 : 1.0, 0, 1, "alpha in [0, 1]");
   s.fp_tolerance = r.positive("integrator.fixed_point.tolerance", 1e-6, "tolerance relative to dx");
   if (r.has("integrator.fixed_point.absolute_tolerance"))
@@ -329,6 +338,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.output_fields = r.strings("output.fields", std::vector<std::string>{"velocity", "density", "pressure", "mass",
                                                                         "id", "kind", "normal", "body"});
   s.output_precision = r.choice("output.precision", "float32", {"float32", "float64"});
+  s.output_static_boundary = r.choice("output.static_boundary", "every_frame", {"every_frame", "once"});
   s.checkpoint_every = r.number("checkpoint.every", 0.0, 0, kInf, "simulated seconds between checkpoints");
   s.checkpoint_wall_minutes = r.number("checkpoint.wall_minutes", 0.0, 0, kInf, "wall-clock minutes");
   s.checkpoint_every_steps = r.integer("checkpoint.every_steps", 0, 0, 1000000000000L);

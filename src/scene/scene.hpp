@@ -12,9 +12,47 @@
 
 namespace varsph::scene {
 
+// A rigid body moved by the fluid (kind "rigid"; src/bodies/, docs/bodies.md). Mass properties come
+// from a uniform solid `density` over the body's shape or mesh, or are given (`mass`, `center_of_mass`,
+// `inertia`). Vectors have 3 components in 3D; in 2D rotation is about z and masses are per metre.
+struct RigidSpec {
+  double density = 0;                      // solid density [kg/m^3] (0: mass given instead)
+  double mass = 0;                         // [kg] (2D: kg/m); 0: from density
+  std::vector<double> center_of_mass;      // given centre of mass [m] (empty: of the uniform solid)
+  std::vector<double> inertia;             // given, about the centre of mass: 2D {Izz}; 3D {xx,yy,zz,xy,xz,yz}
+  std::vector<double> angular_velocity;    // initial [rad/s]: 2D {wz}, 3D {wx,wy,wz}
+  std::string constraint = "free";         // "free" | "hinge" | "fixed_point"
+  std::vector<double> pivot;               // hinge / fixed point: a point on the axis [m]
+  std::vector<double> axis;                // hinge (3D): axis direction (2D: z)
+  std::vector<bool> lock_translation;      // per axis
+  std::vector<bool> lock_rotation;         // 2D: {z}; 3D: {x, y, z} (world axes)
+  std::vector<double> cylinder_axis;       // shape "cylinder" (3D): axis direction
+  double cylinder_length = 0;              // shape "cylinder" (3D): length [m]
+};
+
+// A linear spring-damper from a point of a rigid body to a fixed anchor or to a point of another body.
+struct MooringSpec {
+  int body = -1;                   // scene body index (a rigid body)
+  std::vector<double> point;       // attachment on the body at t = 0 [m]
+  int anchor_body = -1;            // -1: fixed anchor
+  std::vector<double> anchor;      // fixed anchor, or the attachment on anchor_body at t = 0 [m]
+  double stiffness = 0;            // [N/m] (2D: N/m per metre)
+  double damping = 0;              // [N s/m]
+  double rest_length = -1;         // [m]; < 0: the initial distance
+  bool slack = true;               // a line: no force when shorter than its rest length
+};
+
+// Contact between rigid bodies and any other boundary body (sim: bodies/contact.hpp).
+struct ContactSpec {
+  bool enabled = true;
+  double distance = 1.0;           // contact distance between boundary particles [dx]
+  double stiffness = 0;            // [N/m per particle pair] (0: auto = rho0 c0^2 dx^(d-2))
+  double restitution = 0.5;        // normal restitution coefficient of a particle pair
+};
+
 struct BodySpec {
-  std::string kind;   // "fluid" | "boundary"
-  std::string shape;  // "box" | "tank" | "sphere" | "points" | "mesh"
+  std::string kind;   // "fluid" | "boundary" | "rigid"
+  std::string shape;  // "box" | "tank" | "sphere" | "cylinder" | "points" | "mesh"
   std::vector<double> min, max;           // box / tank corners [m]
   std::vector<double> center;             // sphere / disc centre [m]
   double radius = 0;                      // [m]
@@ -28,6 +66,7 @@ struct BodySpec {
   double free_surface = 0;                // hydrostatic: level of the free surface [m] (default body top)
   nlohmann::json mesh;                    // shape "mesh": the body's mesh keys, for the geometry module
   nlohmann::json motion;                  // boundary: prescribed motion (sim/boundary_motion.hpp), null if fixed
+  RigidSpec rigid;                        // kind "rigid" only
 };
 
 // health.* (sim/health.hpp, docs/scene.md "Health"): what happens to a fluid particle that leaves the
@@ -67,6 +106,13 @@ struct Scene {
   std::vector<double> gravity;
 
   std::vector<BodySpec> bodies;
+  std::vector<MooringSpec> moorings;  // rigid bodies' moorings (top-level `moorings`)
+  ContactSpec contact;                // rigid bodies' contact (top-level `contact`)
+  bool has_rigid_bodies() const {
+    for (const auto& b : bodies)
+      if (b.kind == "rigid") return true;
+    return false;
+  }
 
   // physics.*
   std::string density = "continuity";  // "continuity" | "summation"
@@ -120,6 +166,9 @@ struct Scene {
   double output_every = 0;
   std::vector<std::string> output_fields;
   std::string output_precision = "float32";
+  // "every_frame": every frame holds every particle (CONTRACT.md); "once": the static walls go to a file of
+  // their own, written at the first frame and again only when their number changes (issue 35)
+  std::string output_static_boundary = "every_frame";
   double checkpoint_every = 0;  // [s] simulated, 0 = only at end
   double checkpoint_wall_minutes = 0;
   long checkpoint_every_steps = 0;  // steps between checkpoints, 0 = off

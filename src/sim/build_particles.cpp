@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "core/errors.hpp"
@@ -84,6 +85,58 @@ Vec<D> to_vec(const std::vector<double>& v) {
   return r;
 }
 
+// Signed distance of p to the surface of a rigid body's shape (negative inside); +inf for meshes (their
+// interior is sampled, and the min_boundary_distance rule clears the fluid there).
+template <int D>
+double rigid_signed_distance(const scene::BodySpec& b, const Vec<D>& p) {
+  if (b.shape == "box") {
+    double outside = 0, inside = -1e300;
+    for (int a = 0; a < D; ++a) {
+      const double lo = b.min[std::size_t(a)] - double(p[a]), hi = double(p[a]) - b.max[std::size_t(a)];
+      const double d = std::max(lo, hi);
+      outside += d > 0 ? d * d : 0;
+      inside = std::max(inside, d);
+    }
+    return outside > 0 ? std::sqrt(outside) : inside;
+  }
+  const Vec<D> r = p - to_vec<D>(b.center);
+  if (b.shape == "sphere" || D == 2) return double(r.norm()) - b.radius;
+  if (b.shape == "cylinder") {
+    Vec<D> e = to_vec<D>(b.rigid.cylinder_axis);
+    e /= e.norm();
+    const double along = std::abs(double(r.dot(e))), rr = double((r - r.dot(e) * e).norm());
+    const double dr = rr - b.radius, dz = along - 0.5 * b.rigid.cylinder_length;
+    if (dr > 0 || dz > 0) return std::sqrt(std::max(dr, 0.0) * std::max(dr, 0.0) + std::max(dz, 0.0) * std::max(dz, 0.0));
+    return std::max(dr, dz);
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+// Removes fluid particles inside a rigid body or closer than half a spacing to its surface (the body's
+// own particles sit half a spacing inside it, so its clearance is one spacing, as between lattice rows).
+template <int D>
+std::size_t remove_fluid_inside_rigid(const scene::Scene& s, InitialParticles<D>& p) {
+  std::vector<const scene::BodySpec*> rigid;
+  for (const auto& b : s.bodies)
+    if (b.kind == "rigid" && b.shape != "mesh") rigid.push_back(&b);
+  if (rigid.empty()) return 0;
+  const double clear = 0.5 * s.spacing * (1 - 1e-6);
+  std::size_t kept = 0, removed = 0;
+  for (std::size_t i = 0; i < p.x.size(); ++i) {
+    bool drop = false;
+    if (p.kind[i] == 0)
+      for (const auto* b : rigid) drop = drop || rigid_signed_distance<D>(*b, p.x[i]) < clear;
+    if (drop) { ++removed; continue; }
+    p.x[kept] = p.x[i]; p.v[kept] = p.v[i]; p.normal[kept] = p.normal[i]; p.rho[kept] = p.rho[i];
+    p.mass[kept] = p.mass[i]; p.kind[kept] = p.kind[i]; p.body[kept] = p.body[i];
+    p.wall_distance[kept] = p.wall_distance[i];
+    ++kept;
+  }
+  p.x.resize(kept); p.v.resize(kept); p.normal.resize(kept); p.rho.resize(kept);
+  p.mass.resize(kept); p.kind.resize(kept); p.body.resize(kept); p.wall_distance.resize(kept);
+  return removed;
+}
+
 }  // namespace
 
 template <int D>
@@ -105,7 +158,8 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
   for (std::size_t bi = 0; bi < s.bodies.size(); ++bi) {
     const scene::BodySpec& b = s.bodies[bi];
     const std::string where = s.file.string() + ": bodies." + std::to_string(bi);
-    const std::int32_t kind = b.kind == "fluid" ? 0 : 1;
+    const std::int32_t kind = b.kind == "fluid" ? 0 : 1;  // a rigid body's particles are boundary particles
+    const bool rigid = b.kind == "rigid";
     const std::size_t first = out.x.size();
     Pts<D> pts, normals;
     std::vector<Real> dists;  // boundary: distance to the fluid-wall interface along the normal
@@ -124,7 +178,7 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
         n[a] = cells_in(b.max[a] - b.min[a], dx);
         if (n[a] < 1) throw InputError(where + ": the box is thinner than one particle spacing on axis " + std::to_string(a));
       }
-      const long L = b.layers;
+      const long L = b.kind == "rigid" && b.layers == 0 ? std::numeric_limits<long>::max() : long(b.layers);
       if (b.shape == "box" && kind == 0) {
         for_each_lattice_point<D>({}, n, lo, dx, [&](const Vec<D>& p, auto&) { pts.push_back(p); });
       } else if (b.shape == "box") {
@@ -162,7 +216,36 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
         });
         (void)hi;
       }
-    } else if (b.shape == "sphere") {
+    } else if (b.shape == "cylinder" && D == 3) {
+      // solid cylinder (rigid bodies): lattice points within the radius of the axis and half the length
+      // along it; the interface is its surface, `layers` deep (0: all of it)
+      const Vec<D> c = to_vec<D>(b.center);
+      Vec<D> e = to_vec<D>(b.rigid.cylinder_axis);
+      e /= e.norm();
+      const double R = b.radius, H = 0.5 * b.rigid.cylinder_length;
+      const long n = long(std::ceil(std::max(R, H) / dx)) + 1;
+      std::array<long, D> f, l;
+      f.fill(-n);
+      l.fill(n);
+      Vec<D> origin = c;
+      for (int a = 0; a < D; ++a) origin[a] -= Real(0.5 * dx);
+      const double depth_max = b.layers > 0 ? double(b.layers) * dx : 1e300;
+      for_each_lattice_point<D>(f, l, origin, dx, [&](const Vec<D>& p, auto&) {
+        const Vec<D> r = p - c;
+        const double along = double(r.dot(e));
+        const Vec<D> radial = r - Real(along) * e;
+        const double rr = double(radial.norm());
+        if (rr > R - 0.5 * dx + 1e-9 * dx || std::abs(along) > H - 0.5 * dx + 1e-9 * dx) return;
+        // nearest point of the surface: the mantle or an end face
+        const double to_mantle = R - rr, to_end = H - std::abs(along);
+        if (std::min(to_mantle, to_end) > depth_max) return;
+        pts.push_back(p);
+        Vec<D> q = p;
+        if (to_mantle < to_end) q = rr > 0 ? Vec<D>(c + Real(along) * e + radial * Real(R / rr)) : p;
+        else q = p + Real((along >= 0 ? 1 : -1) * to_end) * e;
+        toward(p, q);
+      });
+    } else if (b.shape == "sphere" || b.shape == "cylinder") {  // a 2D cylinder is a disc
       const Vec<D> c = to_vec<D>(b.center);
       const long n = long(std::ceil(b.radius / dx)) + 1;
       std::array<long, D> f, l;
@@ -172,10 +255,13 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
       for (int a = 0; a < D; ++a) origin[a] -= Real(0.5 * dx);  // a lattice point sits at the centre
       for_each_lattice_point<D>(f, l, origin, dx, [&](const Vec<D>& p, auto&) {
         const Vec<D> r = p - c;
-        if (double(r.norm()) > b.radius + 1e-9 * dx) return;
+        // a rigid ball's surface is its radius (the lattice fills it as a box fills [min, max]); a boundary
+        // ball's surface sits half a spacing beyond its outermost lattice points
+        const double surface = rigid ? b.radius : b.radius + 0.5 * dx;
+        if (double(r.norm()) > surface - 0.5 * dx + 1e-9 * dx) return;
+        if (rigid && b.layers > 0 && double(r.norm()) < surface - double(b.layers) * dx) return;
         pts.push_back(p);
-        // the solid ball's surface sits half a spacing beyond its outermost lattice points
-        if (kind == 1) toward(p, r.norm() > 0 ? Vec<D>(c + r.normalized() * Real(b.radius + 0.5 * dx)) : p);
+        if (kind == 1) toward(p, r.norm() > 0 ? Vec<D>(c + r.normalized() * Real(surface)) : p);
       });
     } else if (b.shape == "points") {
       for (auto& q : b.points) pts.push_back(to_vec<D>(q));
@@ -217,6 +303,10 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
       out.body.push_back(int(bi));
     }
     (void)first;
+  }
+  if (const std::size_t inside = remove_fluid_inside_rigid<D>(s, out)) {
+    std::fprintf(stderr, "varsph: note: %s: removed %zu fluid particles inside rigid bodies (or within half a spacing "
+                 "of their surface)\n", s.file.string().c_str(), inside);
   }
   if (const std::size_t removed = remove_fluid_near_walls<D>(out, s.min_boundary_distance)) {
     std::fprintf(stderr, "varsph: note: %s: removed %zu fluid particles closer than %g m to boundary particles "

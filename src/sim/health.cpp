@@ -39,7 +39,7 @@ HealthMonitor<D>::HealthMonitor(const scene::Scene& s)
     : spec_(s.health), rho0_(s.rho0), c0_(s.c0), dmin_(s.domain_min), dmax_(s.domain_max), periodic_(s.periodic) {
   stop_ = spec_.on_violation == "stop";
   bool moving = false;
-  for (const auto& b : s.bodies) moving |= !b.motion.is_null();
+  for (const auto& b : s.bodies) moving |= !b.motion.is_null() || b.kind == "rigid";
   bool body_force = false;
   for (double f : s.body_force) body_force |= f != 0.0;
   energy_on_ = spec_.max_energy_growth > 0 && !moving && !body_force;

@@ -17,6 +17,7 @@
 
 #ifdef VARSPH_HAVE_GEOMETRY
 #include "varsph/geometry/geometry_error.h"
+#include "varsph/geometry/read_mesh.h"
 #include "varsph/geometry/sample_body.h"
 #endif
 
@@ -115,6 +116,15 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_parti
   if (req.fill != "surface" && req.fill != "volume") bad(where, "fill", "\"surface\" or \"volume\"", m["fill"]);
   req.layers = b.kind == "boundary" ? b.layers : 1;
   req.layer_side = m.value("layer_side", std::string("outside"));
+  const bool rigid = b.kind == "rigid";
+  if (rigid) {  // a solid in the fluid: layers inside its surface, then (layers 0) its interior filled
+    if (m.contains("fill") || m.contains("layer_side"))
+      throw InputError(where + ": a rigid mesh body takes no fill or layer_side (its layers grow inside its "
+                               "closed surface; `layers` 0 fills it)");
+    req.fill = "surface";
+    req.layer_side = "inside";
+    req.layers = b.layers > 0 ? b.layers : 3;
+  }
   if (req.layer_side != "outside" && req.layer_side != "inside")
     bad(where, "layer_side", "\"outside\" (a tank) or \"inside\" (an obstacle)", m["layer_side"]);
   req.transform = transform_of(m.contains("transform") ? m["transform"] : json(), where, D);
@@ -157,9 +167,64 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_parti
       if (interface_distance) interface_distance->push_back(Real((double(out.layer[k]) + 0.5) * s.spacing));
     }
   }
+  if (rigid && b.layers == 0) {
+    // the interior on the volume lattice, clear of the surface layers (no fluid can sit inside a body)
+    geometry::BodyRequest vol = req;
+    vol.fill = "volume";
+    vol.exclusion_points = out.positions;
+    vol.exclusion_distance = 0.75 * s.spacing;
+    geometry::SampledBody in;
+    try {
+      in = geometry::sample_body(vol);
+    } catch (const geometry::GeometryError& e) {
+      throw InputError(where + ": " + e.what());
+    }
+    for (Eigen::Index k = 0; k < in.positions.rows(); ++k) {
+      Vec<D> p;
+      for (int a = 0; a < D; ++a) p[a] = Real(in.positions(k, a));
+      positions.push_back(p);
+      normals.push_back(Vec<D>::Zero());
+      if (interface_distance) interface_distance->push_back(Real((double(req.layers) + 0.5) * s.spacing));
+    }
+  }
+}
+
+template <int D>
+bodies::MassProperties mesh_mass_properties(const scene::Scene& s, std::size_t index) {
+  const scene::BodySpec& b = s.bodies[index];
+  const std::string where = s.file.string() + ": bodies." + std::to_string(index);
+  const json& m = b.mesh;
+  if (D == 2 || m.contains("section"))
+    throw InputError(where + ": the mass properties of a 2D mesh body are not computed from its outline yet: give "
+                             "\"mass\", \"center_of_mass\" and \"inertia\" instead of \"density\"");
+  std::vector<std::string> notes;
+  geometry::TriangleMesh mesh;
+  try {
+    mesh = geometry::read_mesh(s.file.parent_path() / m["mesh"].get<std::string>(),
+                               transform_of(m.contains("transform") ? m["transform"] : json(), where, D), true, notes);
+  } catch (const geometry::GeometryError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+  if (mesh.border_edges > 0)
+    throw InputError(where + ".mesh: a rigid body needs a closed mesh (this one has " + std::to_string(mesh.border_edges) +
+                     " border edges): its mass, centre of mass and inertia are integrated over the enclosed volume");
+  if (mesh.self_intersecting)
+    throw InputError(where + ".mesh: a rigid body needs a mesh without self-intersections (its volume is ambiguous)");
+  std::vector<Eigen::Vector3d> V(std::size_t(mesh.V.rows()));
+  std::vector<Eigen::Vector3i> F(std::size_t(mesh.F.rows()));
+  for (Eigen::Index k = 0; k < mesh.V.rows(); ++k) V[std::size_t(k)] = mesh.V.row(k).transpose();
+  for (Eigen::Index k = 0; k < mesh.F.rows(); ++k) F[std::size_t(k)] = mesh.F.row(k).transpose();
+  return bodies::triangle_mesh_mass(V, F, 1.0);
 }
 
 #else
+
+template <int D>
+bodies::MassProperties mesh_mass_properties(const scene::Scene& s, std::size_t index) {
+  throw InputError(s.file.string() + ": bodies." + std::to_string(index) +
+                   ": mesh bodies need the geometry module, which this build does not include "
+                   "(configure with -DVARSPH_BUILD_GEOMETRY=ON)");
+}
 
 template <int D>
 void sample_mesh_body(const scene::Scene& s, std::size_t index, double, std::vector<Vec<D>>&,
@@ -171,6 +236,8 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double, std::vec
 
 #endif
 
+template bodies::MassProperties mesh_mass_properties<2>(const scene::Scene&, std::size_t);
+template bodies::MassProperties mesh_mass_properties<3>(const scene::Scene&, std::size_t);
 template void sample_mesh_body<2>(const scene::Scene&, std::size_t, double, std::vector<Vec<2>>&,
                                   std::vector<Vec<2>>&, std::vector<Real>*);
 template void sample_mesh_body<3>(const scene::Scene&, std::size_t, double, std::vector<Vec<3>>&,

@@ -2,6 +2,7 @@
 // Mesh bodies are sampled by the CGAL geometry module (its own target); this is the solver-side seam.
 #include <vector>
 
+#include "bodies/mass_properties.hpp"
 #include "core/real.hpp"
 #include "scene/scene.hpp"
 
@@ -14,5 +15,10 @@ template <int D>
 void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_particles,
                       std::vector<Vec<D>>& positions, std::vector<Vec<D>>& normals,
                       std::vector<Real>* interface_distance = nullptr);
+
+// Volume, centre of mass and inertia of a closed mesh body at unit density (rigid bodies): exact over the
+// transformed mesh by signed tetrahedra. InputError for an open or self-intersecting mesh, and for 2D.
+template <int D>
+bodies::MassProperties mesh_mass_properties(const scene::Scene& s, std::size_t index);
 
 }  // namespace varsph

@@ -1,5 +1,7 @@
 #include "sim/restart.hpp"
 
+#include "bodies/rigid_bodies.hpp"
+
 #include <cstring>
 #include <map>
 
@@ -7,6 +9,19 @@
 #include "exec/device_backend.hpp"
 
 namespace varsph {
+namespace {
+
+// Rigid body states (poses, velocities) live beside the particle store: saved with the integrator state.
+template <int D>
+void restore_rigid_bodies(Simulation<D>& sim, const nlohmann::json& state, const std::string& file) {
+  auto* b = sim.rigid_bodies();
+  if (!b) return;
+  if (!state.contains("rigid_bodies"))
+    throw InputError(file + ": the checkpoint holds no rigid body state (written by a varsph without rigid bodies?)");
+  b->restore_state(state.at("rigid_bodies"));
+}
+
+}  // namespace
 namespace {
 
 // Flattens a JSON value into dotted keys (objects and arrays both descend; arrays by index).
@@ -127,6 +142,7 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
   }
   sim.recount_kinds();
   sim.set_clock(h.time, long(h.step));
+  restore_rigid_bodies(sim, h.integrator_state, file);  // before the sort places their particles
   // the arrays are in the order of the checkpointed step's cell sort; sorting again is stable, so this
   // rebuilds the neighbour grid for them without changing the order (checked by the restart tests)
   sim.sort_and_bin();
@@ -149,6 +165,7 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
   auto& integ = sim.integrator();
   h.integrator = integ.name();
   h.integrator_state = integ.save_state();
+  if (const auto* b = sim.rigid_bodies()) h.integrator_state["rigid_bodies"] = b->save_state();
   h.runner_state = runner_state;
   return h;
 }
@@ -174,6 +191,7 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
   dt_ = sim.dt();
   step_ = sim.step();
   integrator_state_ = sim.integrator().save_state();
+  if (const auto* b = sim.rigid_bodies()) integrator_state_["rigid_bodies"] = b->save_state();
   runner_state_ = runner_state;
   valid_ = true;
 }
@@ -192,6 +210,7 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
   }
   sim.set_clock(time_, step_);
   sim.set_dt(dt_);
+  restore_rigid_bodies(sim, integrator_state_, "the last good state");
   sim.integrator().restore_state(integrator_state_);
   if (sim.distributed()) {  // owned rows back in place, ghosts and grid rebuilt for them (collective)
     sim.adopt_rows(owned_, -1);  // with the captured order tags: the serial summation order
@@ -219,6 +238,7 @@ long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
   // the order of restore_from_checkpoint(): the arrays are in the captured step's cell order, and the
   // stable sort rebuilds its grid without moving them
   sim.set_clock(time_, step_);
+  restore_rigid_bodies(sim, integrator_state_, "the last good state");  // before the sort places them
   if (!sim.on_device()) sim.sort_and_bin();
   sim.set_dt(dt_);
   sim.integrator().restore_state(integrator_state_);

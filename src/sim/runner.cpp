@@ -14,6 +14,7 @@
 #include <omp.h>
 
 #include "core/errors.hpp"
+#include "bodies/body_table.hpp"
 #include "exec/device_run.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
@@ -27,6 +28,8 @@
 #include "sim/build_info.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/frame_export.hpp"
+#include "sim/run_estimate.hpp"
+#include "sim/static_walls.hpp"
 #include "sim/health.hpp"
 #include "sim/probes.hpp"
 #include "sim/restart.hpp"
@@ -112,6 +115,7 @@ class Runner {
       std::printf("varsph: %s: %zu fluid + %zu boundary particles, dt %.3g s, to t = %g s -> %s\n",
                   scene_.name.c_str(), sim.count(0), sim.count(1), sim.dt(), scene_.t_end,
                   dir_.root.string().c_str());
+      std::printf("varsph: %s\n", disk_estimate_line(scene_, sim).c_str());  // issue 35: before the disk fills
       if (ckpt)
         std::printf("varsph: restarting from %s (step %ld, t = %.9g s)\n", opt_.restart.string().c_str(), sim.step(),
                     sim.time());
@@ -119,6 +123,10 @@ class Runner {
     if (!ckpt) {
       write_frame(sim);
       if (!probes.empty()) write_probes(sim, probes);
+      if (auto* rb = sim.rigid_bodies()) {
+        rb->evaluate_loads(sim);  // the loads of the initial state (the state itself is not changed)
+        write_bodies(sim);
+      }
     }
     auto last_log = clock::now();
     std::string failure;
@@ -172,8 +180,9 @@ class Runner {
         if (sim.on_device() && has_load_probes()) sim.sync_host();  // they read the state every step
         probes.accumulate(sim);
       }
-      if (!probes.empty() && sim.time() >= next_probe_ - 0.5 * sim.dt()) {
-        write_probes(sim, probes);
+      if ((!probes.empty() || sim.rigid_bodies()) && sim.time() >= next_probe_ - 0.5 * sim.dt()) {
+        if (!probes.empty()) write_probes(sim, probes);
+        write_bodies(sim);
         if (scene_.probes_every > 0)
           while (next_probe_ <= sim.time() + 0.5 * sim.dt()) next_probe_ += scene_.probes_every;
       }
@@ -284,6 +293,11 @@ class Runner {
         std::vector<std::string> cols = {"time"};
         for (auto& c : probes.columns()) cols.push_back(c);
         probes_csv_.open(dir_.probes(), cols, keep_up_to);
+      }
+      if (sim.rigid_bodies()) {
+        bodies_csv_.open(dir_.bodies(), bodies::body_columns(), keep_up_to);
+        if (!sim.rigid_bodies()->moorings().empty())
+          moorings_csv_.open(dir_.moorings(), bodies::mooring_columns(), keep_up_to);
       }
     });
     if (ckpt && ckpt->header.runner_state.contains("health"))
@@ -501,6 +515,17 @@ class Runner {
     on_root([&] { probes_csv_.row(row); });
   }
 
+  // bodies.csv and moorings.csv rows of the state after the last step (rigid bodies only)
+  void write_bodies(Simulation<D>& sim) {
+    const auto* rb = sim.rigid_bodies();
+    if (!rb) return;
+    on_root([&] {
+      for (const auto& row : bodies::body_rows(*rb, sim.time())) bodies_csv_.row(row);
+      if (moorings_csv_.is_open())
+        for (const auto& row : bodies::mooring_rows(*rb, sim.time())) moorings_csv_.row(row);
+    });
+  }
+
   void warn_dt_bound(double dt, double bound, long step) {
     if (bound <= 0 || dt <= bound || warned_dt_bound_) return;
     warned_dt_bound_ = true;
@@ -520,6 +545,27 @@ class Runner {
     dt_bound_ = r.dt_bound;
   }
 
+  // output.static_boundary = "once" (one process): the frame `fd` leaves the static walls out and names the
+  // file that holds them, written now when there is none yet from this process or their number changed
+  // (a restart writes its own at its first frame). Returns that file relative to the run directory.
+  std::string lean_frame(Simulation<D>& sim, io::FrameData& fd, long index) {
+    const auto& f = sim.fields();
+    split_static(f.kind.data, f.body.data, sim.size(), static_bodies(scene_), static_sel_, moving_sel_);
+    if (static_rel_.empty() || static_sel_.size() != static_count_) {
+      char num[32];
+      std::snprintf(num, sizeof num, "%06ld", index);
+      const std::string file = scene_.name + "_static_" + num + ".vtu";
+      io::FrameData st = fd;
+      st.select = &static_sel_;
+      io::write_vtu((dir_.frames() / file).string(), st);
+      static_rel_ = "frames/" + file;
+      static_count_ = static_sel_.size();
+    }
+    fd.select = &moving_sel_;
+    fd.static_file = std::filesystem::path(static_rel_).filename().string();  // beside the frame
+    return static_rel_;
+  }
+
   void write_frame(Simulation<D>& sim) {
     sim.sync_host();  // a device run's state into the store
     const long index = frame_index_++;
@@ -531,8 +577,9 @@ class Runner {
     fd.time = time;
     fd.step = step;
     fd.count = sim.size();  // owned particles (a piece per rank when distributed)
+    const std::string static_rel = scene_.output_static_boundary == "once" ? lean_frame(sim, fd, index) : "";
     const std::string rel = parallel::write_frame(*comm_, dir_, index, fd);
-    on_root([&] { pvd_->add(io::frame_time_label(time, scene_.output_every), rel); });  // the deferred frame's time
+    on_root([&] { pvd_->add(io::frame_time_label(time, scene_.output_every), rel, static_rel); });  // the deferred frame's time
     last_frame_name_ = dir_.frame_relative(index);
     last_frame_at_current_ = true;
     last_frame_step_ = step;
@@ -646,8 +693,12 @@ class Runner {
   bool root_ = true, quiet_ = false;
   io::RunDirectory dir_;
   std::unique_ptr<io::PvdSeries> pvd_;
+  std::vector<std::uint32_t> static_sel_, moving_sel_;  // lean frames: the static walls and the rest
+  std::string static_rel_;                             // the static walls' file ("" = none written yet)
+  std::size_t static_count_ = 0;
   Probes<D>* probes_ = nullptr;  // the run loop's probes (their accumulation goes into checkpoints)
   io::CsvTable diag_, probes_csv_, removed_csv_;
+  io::CsvTable bodies_csv_, moorings_csv_;  // rigid bodies (bodies/body_table.hpp)
   HealthMonitor<D> health_;
   std::array<bool, kRemovalRules> warned_removal_{};
   double next_frame_ = 0, next_probe_ = 0, next_checkpoint_ = 0;

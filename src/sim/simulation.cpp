@@ -17,6 +17,7 @@
 #include "physics/corrections/corrections.hpp"
 #include "sim/build_particles.hpp"
 #include "sim/step_region.hpp"
+#include "bodies/rigid_bodies.hpp"
 
 namespace varsph {
 namespace {
@@ -127,9 +128,11 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
       laws.push_back(parse_motion<D>(scene.bodies[b].motion, scene.file.string() + ": bodies." + std::to_string(b) + ".motion"));
     motion_ = std::make_unique<BoundaryMotion<D>>(std::move(laws), store_);
     motion_->capture_reference(f_.x, f_.normal);
+    if (scene.has_rigid_bodies()) bodies_ = std::make_unique<bodies::RigidBodies<D>>(scene, store_, f_, scene.rho0, scene.c0);
     // walls extrapolated from the fluid feel their own acceleration (Adami 2012 eq. 27, mDBC clone)
-    if (motion_->active() && wall_v_)
+    if (walls_move() && wall_v_)
       wall_acc_ = &store_.add<Vec<D>>("wall_acceleration", {.exported = false});
+    if (bodies_) bodies_->place(f_, store_.size(), wall_acc_);  // the bodies' initial velocities
   }
   integrator_ = make_integrator<D>(scene);
   // what several ranks cannot run yet: every rank decides alike and they agree (one message, exit 2)
@@ -137,6 +140,9 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     if (comm_->size() > 1 && scene.device != "cpu")
       throw InputError(scene.file.string() + ": execution.device = \"" + scene.device + "\" is not available on "
                        "several MPI ranks yet (docs/parallel.md, Limits); run it in one process or on the CPU");
+    if (comm_->size() > 1 && scene.output_static_boundary != "every_frame")  // one static file, not pieces
+      throw InputError(scene.file.string() + ": key 'output.static_boundary': \"once\" is written by one process "
+                       "only; run it in one process or set \"every_frame\"");
     if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
       // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
       throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
@@ -330,12 +336,18 @@ void Simulation<D>::set_skin(Real skin) {
 template <int D>
 void Simulation<D>::move_boundaries(double t) {
   motion_->apply(t, f_.x, f_.v, f_.normal, f_.body, wall_acc_);
+  if (bodies_) bodies_->place(f_, size(), wall_acc_);
+}
+
+template <int D>
+void Simulation<D>::advance_bodies(double dt, double drift) {
+  if (bodies_) bodies_->advance(*this, dt, drift);
 }
 
 template <int D>
 void Simulation<D>::sort_and_bin() {
   // moving walls take their place in the new configuration (time t + dt) before binning
-  if (motion_ && motion_->active()) team_single([&] { move_boundaries(time_ + dt_); });
+  if (motion_ && walls_move()) team_single([&] { move_boundaries(time_ + dt_); });
   rebin();
 }
 
@@ -451,7 +463,7 @@ const StepReport& Simulation<D>::advance() {
 
 template <int D>
 const StepReport& Simulation<D>::advance(const std::function<void()>& after_step) {
-  if (motion_->active()) move_boundaries(time_);  // walls at t_k for the forces of this step
+  if (walls_move()) move_boundaries(time_);  // walls at t_k for the forces of this step
   rates_->set_time(time_);  // gravity ramp, damping window
   if (domain_) domain_->step_begin();
   // Shepard re-initialisation changes the densities after the step: the check then runs after it

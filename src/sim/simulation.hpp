@@ -30,6 +30,10 @@ class Domain;
 
 template <int D>
 class Simulation;
+namespace bodies {
+template <int D>
+class RigidBodies;
+}  // namespace bodies
 namespace exec {
 template <int D>
 class DeviceRun;
@@ -141,8 +145,16 @@ class Simulation {
   }
   // Whether the next step runs in one OpenMP parallel region (core/team.hpp, sim/step_region.hpp).
   bool steps_in_one_region() const;
-  // Positions and velocities of moving boundary bodies at time t (no-op when no body moves).
+  // Positions and velocities of moving boundary bodies at time t, and of rigid bodies at their current
+  // state (no-op when no body moves).
   void move_boundaries(double t);
+  // Rigid bodies (scene bodies of kind "rigid"; bodies/rigid_bodies.hpp): null when the scene has none.
+  bodies::RigidBodies<D>* rigid_bodies() { return bodies_.get(); }
+  const bodies::RigidBodies<D>* rigid_bodies() const { return bodies_.get(); }
+  // Advances the rigid bodies by dt from the loads at the current state (integrators call it after the
+  // fluid's forces, before their drift's sort_and_bin places the bodies' particles); `drift` as in
+  // RigidBodies::advance. No-op without rigid bodies. Every thread of a step region calls it.
+  void advance_bodies(double dt, double drift);
   double cfl_dt() const;  // the CFL limit on the current state (for `info` and reports)
   // Shepard density re-initialisation (physics.shepard_reinit; Colagrossi & Landrini 2003):
   // rho_i = sum_j m_j W_ij / sum_j V_j W_ij for fluid particles, then p = EOS(rho). advance() calls it
@@ -208,6 +220,8 @@ class Simulation {
   std::unique_ptr<Integrator<D>> integrator_;
   std::unique_ptr<exec::DeviceRun<D>> device_;  // execution.device != "cpu"
   std::unique_ptr<BoundaryMotion<D>> motion_;  // prescribed motion of boundary bodies (inactive if none)
+  std::unique_ptr<bodies::RigidBodies<D>> bodies_;  // rigid bodies moved by the fluid (null if none)
+  bool walls_move() const { return motion_->active() || bodies_ != nullptr; }
   std::vector<Field<Vec<D>>*> position_like_;
   Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls / mDBC: velocity boundary particles show to viscosity
   Field<Real>* wall_distance_ = nullptr;    // mDBC: distance to the fluid-wall interface [m]

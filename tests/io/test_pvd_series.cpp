@@ -71,3 +71,26 @@ TEST(PvdSeries, WritesShortestDecimalsThatReadBackExactly) {
   EXPECT_EQ(read_text(dir / "x.pvd"), text);
   fs::remove_all(dir);
 }
+
+// Lean frames (issue 35): a frame's static walls are part 1 of its time step; read back and re-written
+// unchanged (a restart keeps them), and a frame without static walls has no part 1 line.
+TEST(PvdSeries, StaticWallsArePartOneOfTheirTimeStep) {
+  const fs::path dir = fs::temp_directory_path() / ("varsph_pvd_static_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  {
+    PvdSeries pvd(dir / "x.pvd");
+    pvd.add(0.0, "frames/x_000000.vtu", "frames/x_static_000000.vtu");
+    pvd.add(0.1, "frames/x_000001.vtu", "frames/x_static_000000.vtu");
+    pvd.add(0.2, "frames/x_000002.vtu");
+  }
+  const std::string text = read_text(dir / "x.pvd");
+  EXPECT_NE(text.find("<DataSet timestep=\"0.1\" group=\"\" part=\"1\" file=\"frames/x_static_000000.vtu\"/>"),
+            std::string::npos) << text;
+  EXPECT_EQ(text.find("timestep=\"0.2\" group=\"\" part=\"1\""), std::string::npos) << text;
+  PvdSeries back(dir / "x.pvd");
+  back.load();
+  EXPECT_EQ(back.size(), 3u);  // time steps, not DataSet lines
+  back.write();
+  EXPECT_EQ(read_text(dir / "x.pvd"), text);
+  fs::remove_all(dir);
+}
