@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "parallel/communicator.hpp"
+#include "sim/run_estimate.hpp"
 #include "study/study_options.hpp"
 
 namespace CLI {
@@ -24,6 +25,7 @@ struct CommandArgs {
   std::string state, paraview_exe;  // paraview
   std::vector<std::string> paraview_args;
   bool dry_run = false;             // paraview
+  EstimateLimits limits;            // info: thresholds of the run estimate
   std::shared_ptr<parallel::Communicator> comm;  // all ranks of the run (one: the serial program)
 };
 

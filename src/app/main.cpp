@@ -38,9 +38,21 @@ int main(int argc, char** argv) {
   run->add_flag("--overwrite", args.overwrite, "Replace an existing non-empty run directory");
   run->add_flag("--quiet", args.quiet, "Print only errors");
 
-  auto* info = app.add_subcommand("info", "Print the resolved parameters of a scene without running it");
+  auto* info = app.add_subcommand("info", "Print the resolved parameters of a scene and what a run will cost "
+                                           "(particles per body, memory, steps, wall time, disk) without running it");
   info->add_option("scene", args.scene, "Scene file (JSON)")->required();
   info->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE");
+  info->add_option("--threads", args.threads, "OpenMP threads of the calibration (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  info->add_option("--max-memory", args.limits.memory_gb, "Warn when the run needs more memory [GB] "
+                   "(default: 80 % of this machine's)")->check(CLI::NonNegativeNumber);
+  info->add_option("--max-disk", args.limits.disk_gb, "Warn when frames and checkpoints need more disk [GB] "
+                   "(default: the free space here)")->check(CLI::NonNegativeNumber);
+  info->add_option("--max-hours", args.limits.hours, "Warn when the run takes longer [h] (default 24)")
+      ->check(CLI::PositiveNumber);
+  info->add_option("--calibrate-max", args.limits.calibrate_max_particles, "Scenes planned above this many "
+                   "particles are not sampled: a coarser copy is, and scaled (default 100000)")
+      ->check(CLI::PositiveNumber);
 
   auto* sample = app.add_subcommand("sample", "Geometry only: write the sampled particles as VTU (with their body index) and print the count and the box of each body and the spacing statistics");
   sample->add_option("scene", args.scene, "Scene file (JSON)")->required();
