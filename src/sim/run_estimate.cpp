@@ -27,6 +27,12 @@ double status_kb(const std::string& key) {
   return 0;
 }
 
+// frames of a run: t = 0, every output.every, and the last one at time.end when it is off that grid
+double frame_count(const scene::Scene& s) {
+  const double k = std::floor(s.t_end / s.output_every + 1e-9);
+  return k + 1 + (s.t_end - k * s.output_every > 1e-9 * s.t_end ? 1 : 0);
+}
+
 // bytes one particle adds to a frame: its output arrays, its point and its vertex cell (8 + 8 + 1)
 template <int D>
 double frame_bytes_per_particle(const scene::Scene& s, const Simulation<D>& sim) {
@@ -84,12 +90,14 @@ RunEstimate estimate(const scene::Scene& full, const scene::Scene& s, double k) 
   const double grown = std::max(0.0, status_kb("VmRSS") - rss0) * 1024.0 / std::max(n_built, 1.0);
   e.memory_bytes = std::max(grown, arrays) * n;
   // disk: every frame, the static walls once (output.static_boundary), two checkpoints kept
-  e.frames = std::floor(full.t_end / full.output_every + 1e-9) + 1;
+  e.frames = frame_count(full);
   const double per = frame_bytes_per_particle(full, sim);
   const auto is_static = static_bodies(full);
-  double walls = 0;
+  double walls = 0, static_all = 0;
   for (std::size_t b = 0; b < per_body.size(); ++b)
-    if (full.output_static_boundary == "once" && b < is_static.size() && is_static[b]) walls += per_body[b];
+    if (b < is_static.size() && is_static[b]) static_all += per_body[b];
+  if (full.output_static_boundary == "once") walls = static_all;
+  e.static_share = static_all / std::max(n, 1.0);
   constexpr double kHeader = 2700;  // a frame file's XML and array length words (measured: 2.6-2.7 kB)
   e.bytes_per_frame = per * (n - walls) + kHeader;
   e.bytes_static = walls > 0 ? per * walls + kHeader : 0;
@@ -118,6 +126,26 @@ std::string human_seconds(double s) {
 }
 
 }  // namespace
+
+template <int D>
+std::string disk_estimate_line(const scene::Scene& s, const Simulation<D>& sim) {
+  const auto& f = sim.fields();
+  std::vector<std::uint32_t> walls, rest;
+  split_static(f.kind.data, f.body.data, sim.size(),
+               s.output_static_boundary == "once" ? static_bodies(s) : std::vector<bool>(), walls, rest);
+  const double per = frame_bytes_per_particle(s, sim), frames = frame_count(s);
+  const double frame = per * double(rest.size()) + 2700, stat = walls.empty() ? 0 : per * double(walls.size()) + 2700;
+  double ckpt = 0;
+  for (const auto& fb : sim.store().fields())
+    if (fb->flags().checkpointed) ckpt += double(fb->bytes_per_particle());
+  ckpt *= double(sim.size());
+  return "estimate: " + std::to_string(std::llround(frames)) + " frames x " + human_bytes(frame) +
+         (stat > 0 ? " + the static walls once, " + human_bytes(stat) : std::string()) + " = " +
+         human_bytes(frames * frame + stat) + " of frames, 2 checkpoints x " + human_bytes(ckpt) +
+         " (varsph info estimates memory and time too)";
+}
+template std::string disk_estimate_line<2>(const scene::Scene&, const Simulation<2>&);
+template std::string disk_estimate_line<3>(const scene::Scene&, const Simulation<3>&);
 
 RunEstimate estimate_run(const scene::Scene& s, const std::vector<std::string>& overrides,
                          const EstimateLimits& limits) {
@@ -158,7 +186,12 @@ std::string describe_estimate(const scene::Scene& s, const RunEstimate& e, const
     << "estimate disk       " << human_bytes(e.bytes_frames) << " for " << std::llround(e.frames) << " frames ("
     << human_bytes(e.bytes_per_frame) << " each"
     << (e.bytes_static > 0 ? " + the static walls once, " + human_bytes(e.bytes_static) : std::string()) << "), "
-    << human_bytes(2 * e.bytes_checkpoint) << " for the 2 checkpoints kept\n";
+    << human_bytes(2 * e.bytes_checkpoint) << " for the 2 checkpoints kept";
+  if (s.output_static_boundary != "once" && e.static_share > 0.5)  // the torus user's 363 MB frames (issue 35)
+    o << "; static walls are " << std::llround(100 * e.static_share) << " % of every frame: output.static_boundary "
+      << "= \"once\" writes them once (" << human_bytes(e.frames * e.bytes_per_frame * (1 - e.static_share) +
+                                                     e.bytes_per_frame * e.static_share) << ")";
+  o << "\n";
   // limits: the user's, else this machine's memory and the free space where the run would go
   double mem_limit = limits.memory_gb * 1e9;
   if (!(mem_limit > 0)) mem_limit = 0.8 * double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));

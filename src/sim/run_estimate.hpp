@@ -27,12 +27,21 @@ struct RunEstimate {
   int threads = 1;
   int calibration_steps = 0;
   double frames = 0, bytes_per_frame = 0, bytes_static = 0, bytes_frames = 0, bytes_checkpoint = 0;
+  double static_share = 0;             // static walls / all particles (what lean frames would leave out)
 };
 
 // Builds the scene (or a coarser copy of it when it would exceed `calibrate_max_particles`), runs a few
 // steps, and estimates the full run. Throws what parsing or building the scene throws.
 RunEstimate estimate_run(const scene::Scene& s, const std::vector<std::string>& overrides,
                          const EstimateLimits& limits);
+
+template <int D>
+class Simulation;
+
+// One line for the start of `varsph run`: the disk its frames and checkpoints will take (no calibration:
+// the particles of `sim`, the scene's output settings).
+template <int D>
+std::string disk_estimate_line(const scene::Scene& s, const Simulation<D>& sim);
 
 // The lines `varsph info` prints, and the warnings of the limits (appended to `warnings`).
 std::string describe_estimate(const scene::Scene& s, const RunEstimate& e, const EstimateLimits& limits,

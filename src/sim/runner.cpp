@@ -28,6 +28,7 @@
 #include "sim/build_info.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/frame_export.hpp"
+#include "sim/run_estimate.hpp"
 #include "sim/static_walls.hpp"
 #include "sim/health.hpp"
 #include "sim/probes.hpp"
@@ -114,6 +115,7 @@ class Runner {
       std::printf("varsph: %s: %zu fluid + %zu boundary particles, dt %.3g s, to t = %g s -> %s\n",
                   scene_.name.c_str(), sim.count(0), sim.count(1), sim.dt(), scene_.t_end,
                   dir_.root.string().c_str());
+      std::printf("varsph: %s\n", disk_estimate_line(scene_, sim).c_str());  // issue 35: before the disk fills
       if (ckpt)
         std::printf("varsph: restarting from %s (step %ld, t = %.9g s)\n", opt_.restart.string().c_str(), sim.step(),
                     sim.time());
