@@ -596,3 +596,74 @@ class SurgeFront(_OverTime):
         hs = list(_surge.water_height(fr, self._gauges, self._axis, s["vert"], None, s["bottom"])) \
             if self._gauges else []
         return [fr.time, front, front - s["ref"]] + hs
+
+
+# --------------------------------------------------------------------------------------------------
+@smproxy.source(name="varsphBodyTrajectories", label="varsph Body Trajectories")
+@smhint.xml(_CATEGORY)
+class BodyTrajectories(VTKPythonAlgorithmBase):
+    """The paths of a run's rigid bodies (RUN/bodies.csv, docs/bodies.md) up to the current time: one
+    polyline per body through its centre of mass, with point arrays time, body, speed, angle and the fluid
+    force's magnitude. *Run Directory* as for *varsph Run* (empty: VARSPH_RUN_DIR, else the working
+    directory). Show it beside the run: the bodies' particles are in the frames (kind 1, `part` 2)."""
+
+    def __init__(self):
+        VTKPythonAlgorithmBase.__init__(self, nInputPorts=0, nOutputPorts=1, outputType="vtkPolyData")
+        self._dir = ""
+        self._rows = None
+        self._csv = ""
+
+    @smproperty.stringvector(name="RunDirectory", label="Run Directory", default_values="")
+    def SetRunDirectory(self, d):
+        if d != self._dir:
+            self._dir = d or ""
+            self.Modified()
+
+    def _load(self):
+        run = self._dir or os.environ.get("VARSPH_RUN_DIR", "") or os.getcwd()
+        if run.endswith(".pvd"):
+            run = os.path.dirname(run)
+        path = os.path.join(run, "bodies.csv")
+        if path != self._csv:
+            data = np.genfromtxt(path, delimiter=",", names=True)
+            self._rows, self._csv = np.atleast_1d(data), path
+        return self._rows
+
+    def RequestInformation(self, request, inInfo, outInfo):
+        try:
+            rows = self._load()
+        except (OSError, ValueError) as e:
+            print("varsph Body Trajectories: %s" % e, file=sys.stderr)
+            return 0
+        _set_times(outInfo.GetInformationObject(0), sorted(set(float(t) for t in rows["time"])))
+        return 1
+
+    def RequestData(self, request, inInfo, outInfo):
+        from vtkmodules.vtkCommonCore import vtkPoints
+        from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyLine
+        rows = self._rows
+        if rows is None:
+            return 0
+        oi = outInfo.GetInformationObject(0)
+        t = oi.Get(_SDDP.UPDATE_TIME_STEP()) if oi.Has(_SDDP.UPDATE_TIME_STEP()) else float(rows["time"].max())
+        rows = rows[rows["time"] <= t + 1e-12]
+        pts, lines = vtkPoints(), vtkCellArray()
+        arrays = {k: [] for k in ("time", "body", "speed", "angle", "fluid_force")}
+        for b in sorted(set(int(v) for v in rows["body"])):
+            mine = rows[rows["body"] == b]
+            line = vtkPolyLine()
+            for r in mine:
+                line.GetPointIds().InsertNextId(pts.InsertNextPoint(r["x"], r["y"], r["z"]))
+                arrays["time"].append(r["time"])
+                arrays["body"].append(b)
+                arrays["speed"].append(np.sqrt(r["vx"] ** 2 + r["vy"] ** 2 + r["vz"] ** 2))
+                arrays["angle"].append(r["angle"])
+                arrays["fluid_force"].append(np.sqrt(r["fluid_fx"] ** 2 + r["fluid_fy"] ** 2 + r["fluid_fz"] ** 2))
+            lines.InsertNextCell(line)
+        out = vtkPolyData.GetData(outInfo)
+        out.SetPoints(pts)
+        out.SetLines(lines)
+        for k, v in arrays.items():
+            _add_point_array(out, k, np.asarray(v, dtype=float))
+        out.GetInformation().Set(vtkDataObject.DATA_TIME_STEP(), t)
+        return 1

@@ -62,6 +62,10 @@ RigidBodies<D>::RigidBodies(const scene::Scene& s, ParticleStore& store, Particl
   local_ = &store.add<Vec<D>>("rigid_local", {.exported = false});
   local_normal_ = &store.add<Vec<D>>("rigid_local_normal", {.exported = false});
   const std::size_t n = store.size();
+  for (std::size_t i = 0; i < n; ++i) {  // zero where no body writes (a resize leaves Eigen vectors unset)
+    (*local_)[i].setZero();
+    (*local_normal_)[i].setZero();
+  }
   for (std::size_t bi = 0; bi < s.bodies.size(); ++bi) {
     const scene::BodySpec& spec = s.bodies[bi];
     if (spec.kind != "rigid") continue;
@@ -417,6 +421,7 @@ void RigidBodies<D>::evaluate_loads(Simulation<D>& sim) {
 
 template <int D>
 void RigidBodies<D>::advance(Simulation<D>& sim, double dt, double drift) {
+  team_single([&] { started_ = std::chrono::steady_clock::now(); });
   reduce_loads(sim);
   const Eigen::Vector3d g = v3<D>(sim.rates().body_acceleration());
   team_single([&] {
@@ -427,6 +432,7 @@ void RigidBodies<D>::advance(Simulation<D>& sim, double dt, double drift) {
       step_body(b, F, T, dt, drift);
       check_in_domain(b, sim.time() + dt);
     }
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
   });
 }
 

@@ -11,6 +11,7 @@
 // cell order and (through an element-wise sum of the dense array, one non-zero term per slot) any number
 // of MPI ranks.
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -97,6 +98,9 @@ class RigidBodies {
   double kinetic_energy() const;
   double potential_energy(const Eigen::Vector3d& g) const;  // - M g . x
 
+  // Wall seconds spent in advance() since the start (benchmarks: the coupling's share of a step).
+  double seconds() const { return seconds_; }
+
   nlohmann::json save_state() const;
   void restore_state(const nlohmann::json& j);
 
@@ -120,6 +124,8 @@ class RigidBodies {
   scene::ContactSpec contact_;
   double contact_k_ = 0, contact_gamma_ = 0, contact_d_ = 0;
   int dim_ = D;
+  double seconds_ = 0;
+  std::chrono::steady_clock::time_point started_;
 };
 
 }  // namespace varsph::bodies

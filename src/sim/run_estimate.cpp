@@ -93,9 +93,11 @@ RunEstimate estimate(const scene::Scene& full, const scene::Scene& s, double k) 
   e.frames = frame_count(full);
   const double per = frame_bytes_per_particle(full, sim);
   const auto is_static = static_bodies(full);
-  double walls = 0;
+  double walls = 0, static_all = 0;
   for (std::size_t b = 0; b < per_body.size(); ++b)
-    if (full.output_static_boundary == "once" && b < is_static.size() && is_static[b]) walls += per_body[b];
+    if (b < is_static.size() && is_static[b]) static_all += per_body[b];
+  if (full.output_static_boundary == "once") walls = static_all;
+  e.static_share = static_all / std::max(n, 1.0);
   constexpr double kHeader = 2700;  // a frame file's XML and array length words (measured: 2.6-2.7 kB)
   e.bytes_per_frame = per * (n - walls) + kHeader;
   e.bytes_static = walls > 0 ? per * walls + kHeader : 0;
@@ -184,7 +186,12 @@ std::string describe_estimate(const scene::Scene& s, const RunEstimate& e, const
     << "estimate disk       " << human_bytes(e.bytes_frames) << " for " << std::llround(e.frames) << " frames ("
     << human_bytes(e.bytes_per_frame) << " each"
     << (e.bytes_static > 0 ? " + the static walls once, " + human_bytes(e.bytes_static) : std::string()) << "), "
-    << human_bytes(2 * e.bytes_checkpoint) << " for the 2 checkpoints kept\n";
+    << human_bytes(2 * e.bytes_checkpoint) << " for the 2 checkpoints kept";
+  if (s.output_static_boundary != "once" && e.static_share > 0.5)  // the torus user's 363 MB frames (issue 35)
+    o << "; static walls are " << std::llround(100 * e.static_share) << " % of every frame: output.static_boundary "
+      << "= \"once\" writes them once (" << human_bytes(e.frames * e.bytes_per_frame * (1 - e.static_share) +
+                                                     e.bytes_per_frame * e.static_share) << ")";
+  o << "\n";
   // limits: the user's, else this machine's memory and the free space where the run would go
   double mem_limit = limits.memory_gb * 1e9;
   if (!(mem_limit > 0)) mem_limit = 0.8 * double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));

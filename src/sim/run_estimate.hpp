@@ -27,6 +27,7 @@ struct RunEstimate {
   int threads = 1;
   int calibration_steps = 0;
   double frames = 0, bytes_per_frame = 0, bytes_static = 0, bytes_frames = 0, bytes_checkpoint = 0;
+  double static_share = 0;             // static walls / all particles (what lean frames would leave out)
 };
 
 // Builds the scene (or a coarser copy of it when it would exceed `calibrate_max_particles`), runs a few

@@ -130,8 +130,12 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     motion_->capture_reference(f_.x, f_.normal);
     if (scene.has_rigid_bodies()) bodies_ = std::make_unique<bodies::RigidBodies<D>>(scene, store_, f_, scene.rho0, scene.c0);
     // walls extrapolated from the fluid feel their own acceleration (Adami 2012 eq. 27, mDBC clone)
-    if (walls_move() && wall_v_)
+    if (walls_move() && wall_v_) {
       wall_acc_ = &store_.add<Vec<D>>("wall_acceleration", {.exported = false});
+      // fixed walls are never written by the motion laws: zero, not what a resize of Eigen vectors leaves
+      // (uninitialised memory; a distributed run read other bits than one process)
+      for (auto& a : wall_acc_->data) a.setZero();
+    }
     if (bodies_) bodies_->place(f_, store_.size(), wall_acc_);  // the bodies' initial velocities
   }
   integrator_ = make_integrator<D>(scene);

@@ -54,6 +54,18 @@ TEST(MpiRuns, HybridRanksTimesThreadsEqualsOneProcessBitwise) {
                  "--threads 2");
 }
 
+TEST(MpiRuns, FloatingBodiesOnTwoAndThreeRanksEqualOneProcessBitwise) {
+  // rigid bodies (docs/bodies.md): a floating box rocking in a tank, its loads reduced over the ranks
+  const std::string args = "--set particles.spacing=0.01 --set time.end=0.03 --set output.every=0.03 "
+                           "--set 'bodies.2.angular_velocity=[1.0]'";
+  expect_bitwise("bodies", pipeline("bodies/floating_box_2d.json"), args, {2, 3});
+  // expect_bitwise's scratch directory: the bodies' rows must match too
+  const auto base = binary_dir() / "test_scratch" / "mpi_bodies";
+  const std::string serial = read_text(base / "serial" / "bodies.csv");
+  EXPECT_GT(serial.size(), 100u);
+  for (const char* n : {"ranks2", "ranks3"}) EXPECT_EQ(serial, read_text(base / n / "bodies.csv")) << n;
+}
+
 #ifdef VARSPH_TEST_HAVE_GEOMETRY  // mesh bodies: a build without the geometry module refuses them (exit 2)
 TEST(MpiRuns, DamBreak3DOnTwoToFourRanksEqualsOneProcessBitwise) {
   // SPHERIC test 2 (mesh tank and obstacle, dynamic walls, CFL-adaptive dt) at dx = 8 cm: ~210 steps

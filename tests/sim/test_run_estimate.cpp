@@ -63,6 +63,17 @@ TEST(RunEstimate, LimitsTheUserSetsGiveWarnings) {
   EXPECT_EQ(info(kScene).find("warning            estimate"), std::string::npos) << "no limit passed by default";
 }
 
+TEST(RunEstimate, AFrameMostlyOfStaticWallsPointsToLeanFrames) {
+  // the tutorial's torus tank: 9246 of 9946 particles are static walls
+  const std::string scene = (test::source_dir() / "docs" / "tutorial" / "torus_3d.json").string();
+  std::string out = info(scene + " --set 'output.static_boundary=\"every_frame\"'");
+  EXPECT_NE(out.find("static walls are 93 % of every frame: output.static_boundary = \"once\" writes them once"),
+            std::string::npos) << out;
+  out = info(scene);  // it asks for "once" already: said as the static walls' file
+  EXPECT_EQ(out.find("static walls are"), std::string::npos) << out;
+  EXPECT_NE(out.find("+ the static walls once"), std::string::npos) << out;
+}
+
 TEST(RunEstimate, ATooLargeSceneIsEstimatedFromACoarserCopyQuickly) {
   // at dx = 0.5 mm the tank holds 480,000 fluid particles: not sampled (--calibrate-max 1e5 by default)
   const auto t0 = std::chrono::steady_clock::now();
