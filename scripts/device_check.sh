@@ -37,9 +37,12 @@ if [ -d "$here/bin" ]; then
   root="$here"
   [ -n "$bin" ] || bin="$here/bin"
   libs="$here/lib"
-  # the bundle's Open MPI libraries only where the machine has no Open MPI 4 (libmpi.so.40) of its own: a
-  # machine's mpirun loads its own plugins, which must match the libmpi the ranks load
-  if ! ldconfig -p 2>/dev/null | grep -q 'libmpi\.so\.40 '; then libs="$libs:$here/lib-mpi"; fi
+  # the bundle's Open MPI libraries only where the machine's own do not resolve every library of the programs
+  # (a machine's mpirun loads its own plugins, which must match the libmpi the ranks load)
+  if ! command -v ldd >/dev/null ||
+     LD_LIBRARY_PATH="$libs" ldd "$here"/bin/* "$here"/lib/libvarsph_core.so* 2>/dev/null | grep -q "not found"; then
+    libs="$libs:$here/lib-mpi"
+  fi
   export LD_LIBRARY_PATH="$libs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 else
   root="$(cd "$here/.." && pwd)"

@@ -255,7 +255,9 @@ class Backend final : public DeviceBackend<D> {
     // one work area shared by the phases that never overlap: the sort (keys in, indices in, permutation;
     // the gather buffer of the largest field over the first two) and the passes (p / rho^2, m / rho)
     const std::size_t sort_words = std::max<std::size_t>(2, max_elem / 4) + 1;
-    const std::size_t pass_words = 2 * sizeof(Real) / 4;
+    // Antuono's delta-SPH adds the renormalised density gradient (D values) after p / rho^2 and m / rho
+    const bool gradients = s_.params.diffusion == physics::DensityDiffusion::Antuono && !s_.params.riemann;
+    const std::size_t pass_words = (gradients ? 2 + D : 2) * sizeof(Real) / 4;
     work_words_ = std::max(sort_words, pass_words);
     work_ = launch_.alloc(work_words_ * 4 * n_);
     // the tabulated kernel
@@ -362,6 +364,23 @@ class Backend final : public DeviceBackend<D> {
     else if constexpr (std::is_same_v<Visc, physics::RiemannAndLaminarViscosity>) return Visc(riemann_, lam_);
     else return Visc(av_, lam_);
   }
+  // The diffusion policy for the state s; Antuono's delta-SPH first runs its gradient sweep (as RatesImpl's
+  // diffusion(g, s)), reading the volumes `V` the pass computed.
+  template <class Diff>
+  Diff diffusion(const View& s, const Real* V) {
+    if constexpr (std::is_same_v<Diff, physics::AntuonoDiffusion<D>>) {
+      const auto& p = s_.params;
+      Diff d(p.diffusion_delta, p.h, p.c0);
+      Vec<D>* grad = reinterpret_cast<Vec<D>*>(reinterpret_cast<Real*>(work_) + 2 * n_);
+      pairs(s, DensityGradientMaker<D>{W_, s, V, grad});
+      d.grad = grad;
+      return d;
+    } else {
+      (void)s;
+      (void)V;
+      return diffusion<Diff>();
+    }
+  }
   template <class Diff>
   Diff diffusion() const {
     const auto& p = s_.params;
@@ -383,7 +402,7 @@ class Backend final : public DeviceBackend<D> {
   template <BM M, class Diff>
   static void run_drho(Backend& b, const View& s, Real* drho) {
     const Real* V = b.template volumes<Diff>(s);
-    b.pairs(s, DensityRateMaker<D, M, Diff>{b.W_, s, drho, b.template diffusion<Diff>(), V});
+    b.pairs(s, DensityRateMaker<D, M, Diff>{b.W_, s, drho, b.template diffusion<Diff>(s, V), V});
   }
   template <BM M>
   static void run_sum(Backend& b, const View& s, Real* rho) {
@@ -393,9 +412,9 @@ class Backend final : public DeviceBackend<D> {
   static void run_fused(Backend& b, const View& s, Real* drho, Vec<D>* a) {
     const Real* pr = b.pressure_terms(s);
     const Real* V = b.template volumes<Diff>(s);
+    const Diff diff = b.template diffusion<Diff>(s, V);
     b.pairs(s, FusedMaker<D, Visc, MD, MA, Diff>{b.W_, b.template viscosity<Visc>(), b.wall_, b.soft_, s,
-                                                 b.host_.body_acceleration(), drho, a,
-                                                 b.template diffusion<Diff>(), V, pr});
+                                                 b.host_.body_acceleration(), drho, a, diff, V, pr});
   }
 
   // one instantiation per term combination, chosen once (RatesImpl's pick_*; soft walls and mDBC are refused
@@ -441,9 +460,10 @@ class Backend final : public DeviceBackend<D> {
       case physics::DensityDiffusion::Fourtakas:
         fused_fn_ = &run_fused<Visc, MD, MA, physics::FourtakasDiffusion<D>>;
         return;
-      case physics::DensityDiffusion::Antuono: break;  // refused at start (check_device_scene)
+      case physics::DensityDiffusion::Antuono:
+        fused_fn_ = &run_fused<Visc, MD, MA, physics::AntuonoDiffusion<D>>;
+        return;
     }
-    throw std::logic_error("device backend: density diffusion \"antuono\" is refused at start (check_device_scene)");
   }
   template <BM M>
   void density_for_wall() {
@@ -456,7 +476,7 @@ class Backend final : public DeviceBackend<D> {
       case physics::DensityDiffusion::None: drho_fn_ = &run_drho<M, physics::NoDensityDiffusion>; break;
       case physics::DensityDiffusion::Molteni: drho_fn_ = &run_drho<M, physics::MolteniDiffusion>; break;
       case physics::DensityDiffusion::Fourtakas: drho_fn_ = &run_drho<M, physics::FourtakasDiffusion<D>>; break;
-      case physics::DensityDiffusion::Antuono: break;  // refused at start; pick_for_viscosity has thrown
+      case physics::DensityDiffusion::Antuono: drho_fn_ = &run_drho<M, physics::AntuonoDiffusion<D>>; break;
     }
   }
   void pick_passes() {

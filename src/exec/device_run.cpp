@@ -180,8 +180,6 @@ void check_device_scene(const scene::Scene& s) {
   if (s.neighbor_search != "cell") refuse(s, "domain.neighbor_search", "the hash grid (\"" + s.neighbor_search + "\")");
   if (s.boundary_model == "soft_repulsive") refuse(s, "boundary.model", "the soft repulsive wall (Chalk 2020)");
   if (s.boundary_model == "mdbc") refuse(s, "boundary.model", "the mDBC wall (English 2022)");
-  if (s.density_diffusion == "antuono")
-    refuse(s, "physics.density_diffusion.type", "the delta-SPH diffusion of Antuono et al. 2010 (\"antuono\")");
   if (s.xsph_eps > 0) refuse(s, "physics.xsph", "XSPH");
   if (s.damping) refuse(s, "physics.damping", "viscous damping");
   if (s.tensile != "none") refuse(s, "physics.tensile_instability", "artificial stress");

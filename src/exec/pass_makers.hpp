@@ -82,6 +82,20 @@ struct FusedMaker {
   }
 };
 
+// the renormalised density gradients of Antuono et al. 2010's delta-SPH (physics/delta_sph.hpp)
+template <int D>
+struct DensityGradientMaker {
+  DeviceKernel<D> W;
+  physics::ParticleView<D> s;
+  const Real* volume;
+  Vec<D>* out;
+  template <class F>
+  VARSPH_HD void with(F&& f) const {
+    const physics::RenormalisedDensityGradientPass<D, DeviceKernel<D>> pass{W, s, volume, out};
+    f(pass);
+  }
+};
+
 // dummy walls (Adami et al. 2012): wall pressure, density and viscous velocity from the fluid
 template <int D>
 struct AdamiWallMaker {

@@ -25,7 +25,7 @@ struct AntuonoDiffusion {
   Real coef;                    // delta h c0
   const Vec<D>* grad = nullptr;  // <grad rho>^L per particle (fluid), from RenormalisedDensityGradientPass
   AntuonoDiffusion(Real delta, Real h, Real c0) : coef(delta * h * c0) {}
-  Real term_g(std::size_t i, std::size_t j, Real rho_i, Real rho_j, Real Vj, Real F, const Vec<D>& xij) const {
+  VARSPH_HD Real term_g(std::size_t i, std::size_t j, Real rho_i, Real rho_j, Real Vj, Real F, const Vec<D>& xij) const {
     return -coef * Vj * F * (Real(2) * (rho_j - rho_i) + (grad[i] + grad[j]).dot(xij));  // Antuono 2010 eq. 10
   }
 };
@@ -42,15 +42,15 @@ struct RenormalisedDensityGradientPass {
     Eigen::Matrix<Real, D, D> M;
     Vec<D> g;
   };
-  bool active(std::size_t i) const { return s.kind[i] == 0; }
-  Acc begin(std::size_t) const { return {Eigen::Matrix<Real, D, D>::Zero(), Vec<D>::Zero()}; }
-  void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
+  VARSPH_HD bool active(std::size_t i) const { return s.kind[i] == 0; }
+  VARSPH_HD Acc begin(std::size_t) const { return {Eigen::Matrix<Real, D, D>::Zero(), Vec<D>::Zero()}; }
+  VARSPH_HD void pair(Acc& acc, std::size_t i, std::size_t j, const Vec<D>& xij, Real r2) const {
     if (s.kind[j] != 0) return;
     const Real FV = W.grad_factor_r2(r2) * volume[j];
     acc.M.noalias() -= (FV * xij) * xij.transpose();  // x_ji (x) grad_i W V_j = -F V x_ij x_ij^T
     acc.g += (FV * (s.rho[j] - s.rho[i])) * xij;
   }
-  void end(std::size_t i, const Acc& acc) const {
+  VARSPH_HD void end(std::size_t i, const Acc& acc) const {
     const Real det = acc.M.determinant();
     // well conditioned: |det M| of order 1 in the bulk (M = identity for a full support)
     out[i] = std::abs(det) > Real(1e-3) ? Vec<D>(acc.M.inverse() * acc.g) : acc.g;
