@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <numbers>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -174,6 +175,78 @@ TEST(RigidBodies, ARestartContinuesBitwise) {
   const std::string cont = test::read_text(dir / "part" / "bodies.csv");
   EXPECT_EQ(full, cont);
   EXPECT_GT(std::count(full.begin(), full.end(), '\n'), 20);
+}
+
+// Constraints and moorings against closed forms, away from the water (gravity on the body only).
+TEST(RigidBodies, PendulumOnAFixedPointSwingsWithItsCompoundPeriod) {
+  json j = free_body_scene(2);  // box 0.2 x 0.1 at (1.1, 1.55), pivot 0.25 m above its centre
+  j["bodies"][2]["constraint"] = {{"type", "fixed_point"}, {"point", {1.1, 1.8}}};
+  j["bodies"][2]["angular_velocity"] = {0.2};  // small swing: theta_max ~ w0 / Omega ~ 0.035 rad
+  Simulation<2> sim(scene::parse_scene_json(j, "pendulum.json"));
+  const auto& b = sim.rigid_bodies()->bodies().at(0);
+  const double M = b.mp.mass, Ic = b.mp.inertia(2, 2), d = 0.25;
+  const double T = 2 * std::numbers::pi * std::sqrt((Ic + M * d * d) / (M * 9.81 * d));
+  // zero crossings of the angle (downward through 0 from positive) give the period
+  double prev = 0, first = -1, last = -1;
+  int crossings = 0;
+  while (sim.time() < 3.2 * T) {
+    sim.advance();
+    const double a = 2 * std::atan2(b.q.z(), b.q.w());
+    if (prev > 0 && a <= 0) {
+      const double tc = sim.time() - sim.dt() * a / (a - prev);
+      if (first < 0) first = tc;
+      last = tc;
+      ++crossings;
+    }
+    prev = a;
+    // the centre of mass stays on its circle about the pivot
+    ASSERT_NEAR((b.x - Eigen::Vector3d(1.1, 1.8, 0)).norm(), d, 1e-12);
+  }
+  ASSERT_GE(crossings, 3);
+  const double measured = (last - first) / (crossings - 1);
+  EXPECT_NEAR(measured / T, 1.0, 2e-3) << "measured " << measured << " s, compound pendulum " << T << " s";
+}
+
+TEST(RigidBodies, BodyOnASpringOscillatesAboutMgOverK) {
+  json j = free_body_scene(2);
+  const double k = 2000;  // N/m per metre of depth
+  j["bodies"][2]["lock_translation"] = {true, false};
+  j["bodies"][2]["lock_rotation"] = {true};
+  j["bodies"][2]["velocity"] = {0.3, 0};  // locked: stays zero
+  j["moorings"] = json::array({{{"body", 2}, {"point", {1.1, 1.6}}, {"anchor", {1.1, 1.9}}, {"stiffness", k}, {"slack", false}}});
+  Simulation<2> sim(scene::parse_scene_json(j, "spring.json"));
+  const auto& b = sim.rigid_bodies()->bodies().at(0);
+  const double M = b.mp.mass, y0 = b.x.y(), T = 2 * std::numbers::pi * std::sqrt(M / k);
+  double ymin = 1e9, ymax = -1e9;
+  while (sim.time() < 2 * T) {
+    sim.advance();
+    ymin = std::min(ymin, b.x.y());
+    ymax = std::max(ymax, b.x.y());
+    ASSERT_EQ(b.x.x(), 1.1);
+    ASSERT_EQ(b.v.x(), 0.0);
+  }
+  // released at the spring's rest length: it swings between y0 and y0 - 2 M g / k about y0 - M g / k
+  const double sag = M * 9.81 / k;
+  EXPECT_NEAR(0.5 * (ymin + ymax), y0 - sag, 0.01 * sag);
+  EXPECT_NEAR(ymax - ymin, 2 * sag, 0.01 * sag);
+  // the line's length as evaluated for the last step's load: one step (|v| dt < 1e-4 m) behind the state
+  EXPECT_NEAR(sim.rigid_bodies()->moorings()[0].length, 0.3 + (y0 - b.x.y()), 1e-4);
+}
+
+TEST(RigidBodies, HingeIn3DTurnsAboutItsAxisOnly) {
+  json j = free_body_scene(3);  // box 0.4 x 0.2 x 0.12 centred at (1, 0.8, 0.66), spinning (3, 1, 2) rad/s
+  j["gravity"] = {0, 0, -9.81};
+  j["bodies"][2]["constraint"] = {{"type", "hinge"}, {"point", {1.0, 0.8, 0.9}}, {"axis", {1, 0, 0}}};
+  Simulation<3> sim(scene::parse_scene_json(j, "hinge.json"));
+  const auto& b = sim.rigid_bodies()->bodies().at(0);
+  for (int n = 0; n < 1500; ++n) {
+    sim.advance();
+    ASSERT_NEAR(b.w.y(), 0.0, 1e-14);
+    ASSERT_NEAR(b.w.z(), 0.0, 1e-14);
+    ASSERT_NEAR(b.x.x(), 1.0, 1e-12);  // the centre of mass turns in the plane x = 1 about the axis
+    ASSERT_NEAR(std::hypot(b.x.y() - 0.8, b.x.z() - 0.9), 0.24, 1e-12);
+  }
+  EXPECT_GT(std::abs(b.w.x()), 0.5);  // swinging under gravity about x
 }
 
 TEST(RigidBodies, BadInputIsRefusedNamingTheKey) {
