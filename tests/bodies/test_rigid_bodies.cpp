@@ -249,6 +249,34 @@ TEST(RigidBodies, HingeIn3DTurnsAboutItsAxisOnly) {
   EXPECT_GT(std::abs(b.w.x()), 0.5);  // swinging under gravity about x
 }
 
+// The box of pipelines/bodies/floating_box_2d.json at its Archimedes draft, coarse, through every wall model:
+// the fluid carries its weight (the mean vertical fluid force over 0.1-0.25 s within 10 % of M g).
+TEST(RigidBodies, EveryWallModelFloatsTheBox) {
+  const std::vector<std::vector<std::string>> models = {
+      {"boundary.model=\"dummy_adami\""},
+      {"boundary.model=\"dynamic\"", "physics.riemann=null", "physics.artificial_viscosity={\"alpha\": 0.1}"},
+      {"boundary.model=\"mdbc\""},
+      {"boundary.model=\"repulsive\"", "physics.riemann=null", "physics.artificial_viscosity={\"alpha\": 0.1}"}};
+  for (const auto& m : models) {
+    std::vector<std::string> o = {"particles.spacing=0.02", "time.end=0.25", "bodies.2.min=[0.5, 0.35]",
+                                  "bodies.2.max=[0.7, 0.45]"};
+    o.insert(o.end(), m.begin(), m.end());
+    Simulation<2> sim(scene::parse_scene(test::source_dir() / "pipelines" / "bodies" / "floating_box_2d.json", o));
+    const auto& b = sim.rigid_bodies()->bodies().at(0);
+    double sum = 0, w = 0;
+    while (sim.time() < 0.25) {
+      sim.advance();
+      if (sim.time() > 0.1) {
+        sum += b.loads.fluid_force.y() * sim.dt();
+        w += sim.dt();
+      }
+    }
+    const double weight = b.mp.mass * 9.81;
+    std::printf("%s: mean fluid force %.2f N/m, weight %.2f N/m, centre %.4f m\n", m[0].c_str(), sum / w, weight, b.x.y());
+    EXPECT_NEAR(sum / w / weight, 1.0, 0.1) << m[0];
+  }
+}
+
 TEST(RigidBodies, BadInputIsRefusedNamingTheKey) {
   auto refused = [](json j, const std::string& key) {
     try {
