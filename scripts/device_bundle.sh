@@ -58,8 +58,9 @@ done
 strip --strip-unneeded "$bundle"/lib/libvarsph_core.so*  # ours; Debian's libraries come stripped
 
 # the scenes the check's programs read (bench_gpu, bench_step, test_gpu_vs_cpu, scaling.py): none reads a mesh
+# (bench_gpu --engineering takes only engineering_3d's method blocks)
 for s in dam_break_2d_paper dam_break_3d_dsph bench_box_3d poiseuille_2d hydrostatic_2d_adami \
-         dam_break_2d_dsph_val validation/taylor_green_dx0.02; do
+         dam_break_2d_dsph_val validation/taylor_green_dx0.02 engineering_2d engineering_3d; do
   cp "pipelines/$s.json" "$bundle/pipelines/$s.json"
 done
 cp bench/parallel/scaling.py "$bundle/bench/parallel/"

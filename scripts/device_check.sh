@@ -117,16 +117,21 @@ else
   stage gpu_vs_cpu gpu_vs_cpu.txt 120 env OMP_NUM_THREADS="$cores" "$bin/test_gpu_vs_cpu"
 fi
 
-# --- 3. bench_gpu: DualSPHysics' 3D dam break at 171k, 1.4 M, 10.8 M particles; the paper case (10^4 steps) ----
+# --- 3. bench_gpu: DualSPHysics' 3D dam break at 171k, 1.4 M, 10.8 M particles; the paper case (10^4 steps);
+# the engineering set-up on the same dam break -------------------------------------------------------------
 if ! have bench_gpu; then
   skip bench_gpu bench_gpu.txt "no bench_gpu in $bin"
 elif [ "$cpu_only" -eq 1 ]; then
   stage bench_gpu_cpu_tiny bench_gpu.txt 60 "$bin/bench_gpu" --device cpu --tiny --steps 2 --threads "$cores"
+  stage bench_gpu_cpu_engineering bench_gpu.txt 60 "$bin/bench_gpu" --device cpu --engineering --dp 0.015 --steps 2 \
+    --threads "$cores"
 else
   stage bench_gpu_171k bench_gpu.txt 60 "$bin/bench_gpu" --device cuda --dp 0.0085 --steps 50
   stage bench_gpu_1.4M bench_gpu.txt 60 "$bin/bench_gpu" --device cuda --dp 0.004 --steps 50
   stage bench_gpu_10.8M bench_gpu.txt 120 "$bin/bench_gpu" --device cuda --dp 0.002 --steps 20
   stage bench_gpu_paper bench_gpu.txt 40 "$bin/bench_gpu" --device cuda --paper
+  # the README's engineering set-up (Riemann, dummy walls, symplectic Euler) on the same dam break
+  stage bench_gpu_engineering_1.4M bench_gpu.txt 60 "$bin/bench_gpu" --device cuda --engineering --dp 0.004 --steps 50
 fi
 
 # --- 4. bench_step: 1, 2, 4, 8, 16 threads; the pair sweeps (scalar, avx2, avx512) where the CPU has them ------
@@ -193,9 +198,9 @@ done
 # --- the summary: one row per stage, then the figures each stage printed ------------------------------------
 {
   echo "# varsph device check, $(date -u +%FT%TZ), $([ "$cpu_only" -eq 1 ] && echo "--cpu-only" || echo "full"), $cores cores, $(( SECONDS - start )) s of a $budget s budget"
-  printf "%-24s %-32s %6s  %s\n" stage status seconds file
+  printf "%-28s %-32s %6s  %s\n" stage status seconds file
   for k in "${!names[@]}"; do
-    printf "%-24s %-32s %6s  %s\n" "${names[$k]}" "${states[$k]}" "${secs[$k]}" "${files[$k]}"
+    printf "%-28s %-32s %6s  %s\n" "${names[$k]}" "${states[$k]}" "${secs[$k]}" "${files[$k]}"
   done
   echo
   echo "## figures"

@@ -1,8 +1,10 @@
 #include <omp.h>
 
 #include <cstdio>
+#include <cstdlib>
 
 #include "app/commands.hpp"
+#include "app/default_threads.hpp"
 #include "scene/sanity.hpp"
 #include "scene/scene.hpp"
 #include "sim/particle_budget.hpp"
@@ -14,6 +16,8 @@ namespace varsph {
 int command_info(const CommandArgs& a) {
   const scene::Scene s = scene::parse_scene(a.scene, a.overrides);
   if (a.threads > 0) omp_set_num_threads(a.threads);
+  else if (!std::getenv("OMP_NUM_THREADS"))  // what `varsph run` would take here now (app/default_threads.hpp)
+    omp_set_num_threads(threads_for_load(std::max(1, omp_get_num_procs()), load_average()));
   // first, in a fresh process: its memory is measured as the growth of the resident size (sim/run_estimate)
   const RunEstimate e = estimate_run(s, a.overrides, a.limits);
   double planned = 0;  // box, tank, sphere and point bodies, from their size (mesh bodies: not without the mesh)

@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "app/commands.hpp"
+#include "app/default_threads.hpp"
 #include "parallel/collective.hpp"
 #include "scene/sanity.hpp"
 #include "scene/scene.hpp"
@@ -33,6 +34,16 @@ int command_run(const CommandArgs& a) {
   // ranks sharing a machine share its cores unless told otherwise (--threads, OMP_NUM_THREADS)
   if (o.threads == 0 && a.comm->size() > 1 && !std::getenv("OMP_NUM_THREADS"))
     o.threads = std::max(1, int(std::thread::hardware_concurrency()) / std::max(1, a.comm->node_size()));
+  // one process: one thread per core the load average says is free (app/default_threads.hpp)
+  if (o.threads == 0 && a.comm->size() == 1 && !std::getenv("OMP_NUM_THREADS")) {
+    const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+    const double load = load_average();
+    o.threads = threads_for_load(cores, load);
+    if (o.threads < cores && !a.quiet)
+      std::fprintf(stderr, "varsph: note: load average %.2g on %d cores: running on %d thread(s), one per free core "
+                   "(--threads N or OMP_NUM_THREADS sets it; README \"Threads on a busy machine\")\n", load, cores,
+                   o.threads);
+  }
   o.restart = a.restart;
   o.command_line = a.argv;
   install_signal_handlers();

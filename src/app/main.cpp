@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
   run->add_option("scene", args.scene, "Scene file (JSON)")->required();
   run->add_option("-o,--output", args.output, "Run directory (default runs/NAME)");
   run->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE (VALUE as JSON), repeatable");
-  run->add_option("--threads", args.threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
+  run->add_option("--threads", args.threads, "OpenMP threads (default: one per core the load average says is "
+                  "free, at least one; OMP_NUM_THREADS also sets it)")->check(CLI::PositiveNumber);
   run->add_option("--device", args.device,
                   "Where the steps run: cpu, cuda (an NVIDIA GPU), cuda_emulation (the CUDA backend's loops on the "
                   "CPU, for tests); sets execution.device (docs/gpu.md)");
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
                                            "(particles per body, memory, steps, wall time, disk) without running it");
   info->add_option("scene", args.scene, "Scene file (JSON)")->required();
   info->add_option("--set", args.overrides, "Override a scene key: KEY=VALUE");
-  info->add_option("--threads", args.threads, "OpenMP threads of the calibration (default: all cores)")
+  info->add_option("--threads", args.threads, "OpenMP threads of the calibration (default: as varsph run: one per free core)")
       ->check(CLI::PositiveNumber);
   info->add_option("--max-memory", args.limits.memory_gb, "Warn when the run needs more memory [GB] "
                    "(default: 80 % of this machine's)")->check(CLI::NonNegativeNumber);

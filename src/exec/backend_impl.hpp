@@ -30,7 +30,8 @@ class Backend final : public DeviceBackend<D> {
   using BM = physics::BoundaryModel;
 
  public:
-  Backend(const DeviceSetup<D>& setup, HostSide<D>& host) : s_(setup), host_(host), n_(setup.n) {
+  Backend(const DeviceSetup<D>& setup, HostSide<D>& host)
+      : s_(setup), host_(host), n_(setup.n), capacity_(setup.n) {
     g_ = s_.grid;
     rc2_ = s_.support * s_.support;
     const auto& p = s_.params;
@@ -39,6 +40,7 @@ class Backend final : public DeviceBackend<D> {
     soft_ = physics::SoftRepulsiveWall(p.soft_wall_coef, p.c0, p.dx, p.h);
     av_ = physics::ArtificialViscosity(p.av_alpha, p.av_beta, p.c0, p.h, p.av_eps);
     lam_ = physics::LaminarViscosity(p.nu, p.h);
+    riemann_ = physics::RiemannDissipation(p.rho0, p.c0, p.riemann_eta);
     try {
       allocate();
     } catch (...) {
@@ -63,6 +65,11 @@ class Backend final : public DeviceBackend<D> {
   const char* name() const override { return Launch::name(); }
 
   void upload() override {
+    // the store shrinks when the health rules remove particles (Runner): the device arrays, allocated for
+    // the initial count, keep their capacity and the backend works on the first n_
+    const std::size_t n = s_.fields.front()->size();
+    if (n > capacity_) throw std::logic_error("device backend: the store grew past the device arrays");
+    n_ = n;
     for (auto& f : f_)
       if (f.dev) launch_.to_device(f.dev, f.host->raw(), f.elem * n_);
     launch_.for_each(n_, IotaBody{origin_});
@@ -106,7 +113,9 @@ class Backend final : public DeviceBackend<D> {
   }
 
   std::int64_t first_unhealthy() override {
-    HealthBody<D> b{vec(ix_), vec(iv_), real(irho_), kind(), double(s_.params.rho0), s_.max_density_error, {}, {}, {}};
+    const double rho0 = double(s_.params.rho0);
+    HealthBody<D> b{vec(ix_), vec(iv_), real(irho_), kind(), rho0 * (1.0 - s_.max_density_error),
+                    rho0 * (1.0 + s_.max_density_error), s_.max_speed * s_.max_speed, {}, {}, {}};
     for (int a = 0; a < D; ++a) {
       b.lo[a] = s_.domain_min[a];
       b.hi[a] = s_.domain_max[a];
@@ -349,6 +358,8 @@ class Backend final : public DeviceBackend<D> {
     if constexpr (std::is_same_v<Visc, physics::NoViscosity>) return {};
     else if constexpr (std::is_same_v<Visc, physics::ArtificialViscosity>) return av_;
     else if constexpr (std::is_same_v<Visc, physics::LaminarViscosity>) return lam_;
+    else if constexpr (std::is_same_v<Visc, physics::RiemannDissipation>) return riemann_;
+    else if constexpr (std::is_same_v<Visc, physics::RiemannAndLaminarViscosity>) return Visc(riemann_, lam_);
     else return Visc(av_, lam_);
   }
   template <class Diff>
@@ -356,6 +367,7 @@ class Backend final : public DeviceBackend<D> {
     const auto& p = s_.params;
     if constexpr (std::is_same_v<Diff, physics::NoDensityDiffusion>) return {};
     else if constexpr (std::is_same_v<Diff, physics::MolteniDiffusion>) return Diff(p.diffusion_delta, p.h, p.c0);
+    else if constexpr (std::is_same_v<Diff, physics::RiemannDiffusion<D>>) return Diff(p.rho0, p.c0, p.gravity);
     else return Diff(p.diffusion_delta, p.h, p.c0, p.rho0, p.gravity);
   }
 
@@ -386,8 +398,9 @@ class Backend final : public DeviceBackend<D> {
                                                  b.template diffusion<Diff>(), V, pr});
   }
 
-  // one instantiation per term combination, chosen once (RatesImpl's pick_*; soft walls, mDBC and the
-  // Riemann dissipation are refused at start)
+  // one instantiation per term combination, chosen once (RatesImpl's pick_*; soft walls and mDBC are refused
+  // at start). The Riemann solver's dissipation comes with its continuity term (RiemannDiffusion) in place
+  // of any delta-SPH, as RatesImpl does.
   template <class Visc>
   void pick_for_viscosity() {
     switch (s_.params.boundary) {
@@ -408,8 +421,20 @@ class Backend final : public DeviceBackend<D> {
     }
     throw std::logic_error("device backend: a wall model check_device_scene refuses reached the backend");
   }
+  template <class Visc>
+  static constexpr bool is_riemann =
+      std::is_same_v<Visc, physics::RiemannDissipation> || std::is_same_v<Visc, physics::RiemannAndLaminarViscosity>;
   template <class Visc, BM MD, BM MA>
   void fused_for_diffusion() {
+    if constexpr (is_riemann<Visc>) {
+      fused_fn_ = &run_fused<Visc, MD, MA, physics::RiemannDiffusion<D>>;
+      return;
+    } else {
+      fused_for_delta_sph<Visc, MD, MA>();
+    }
+  }
+  template <class Visc, BM MD, BM MA>
+  void fused_for_delta_sph() {
     switch (s_.params.diffusion) {
       case physics::DensityDiffusion::None: fused_fn_ = &run_fused<Visc, MD, MA, physics::NoDensityDiffusion>; return;
       case physics::DensityDiffusion::Molteni: fused_fn_ = &run_fused<Visc, MD, MA, physics::MolteniDiffusion>; return;
@@ -423,6 +448,10 @@ class Backend final : public DeviceBackend<D> {
   template <BM M>
   void density_for_wall() {
     sum_fn_ = &run_sum<M>;
+    if (s_.params.riemann) {
+      drho_fn_ = &run_drho<M, physics::RiemannDiffusion<D>>;
+      return;
+    }
     switch (s_.params.diffusion) {
       case physics::DensityDiffusion::None: drho_fn_ = &run_drho<M, physics::NoDensityDiffusion>; break;
       case physics::DensityDiffusion::Molteni: drho_fn_ = &run_drho<M, physics::MolteniDiffusion>; break;
@@ -432,8 +461,9 @@ class Backend final : public DeviceBackend<D> {
   }
   void pick_passes() {
     const auto& p = s_.params;
-    if (p.riemann) throw std::logic_error("device backend: physics.riemann is refused at start (check_device_scene)");
-    if (p.artificial_viscosity && p.laminar_viscosity) pick_for_viscosity<physics::ArtificialAndLaminarViscosity>();
+    if (p.riemann && p.laminar_viscosity) pick_for_viscosity<physics::RiemannAndLaminarViscosity>();
+    else if (p.riemann) pick_for_viscosity<physics::RiemannDissipation>();
+    else if (p.artificial_viscosity && p.laminar_viscosity) pick_for_viscosity<physics::ArtificialAndLaminarViscosity>();
     else if (p.artificial_viscosity) pick_for_viscosity<physics::ArtificialViscosity>();
     else if (p.laminar_viscosity) pick_for_viscosity<physics::LaminarViscosity>();
     else pick_for_viscosity<physics::NoViscosity>();
@@ -662,12 +692,14 @@ class Backend final : public DeviceBackend<D> {
   DeviceSetup<D> s_;
   HostSide<D>& host_;
   std::size_t n_;
+  std::size_t capacity_;  // particles the device arrays hold (the initial count)
   GridView<D> g_{};
   Real rc2_ = 0;
   physics::RepulsiveWall wall_{0, 1, 12, 4}, no_wall_{0, 1, 12, 4};
   physics::SoftRepulsiveWall soft_{0, 1, 1, 1};
   physics::ArtificialViscosity av_{0, 0, 1, 1};
   physics::LaminarViscosity lam_{0, 1};
+  physics::RiemannDissipation riemann_{1, 1, 0};
   DeviceKernel<D> W_{};
   std::vector<Mirror> f_;
   bool any_host_only_ = false;

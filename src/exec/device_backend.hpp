@@ -40,8 +40,8 @@ struct DeviceSetup {
   double alpha = 1, fp_tolerance = 0, spacing = 0;
   int fp_max_iterations = 50;
   bool halve_on_failure = false, variational_explicit = false, variational_wall = false;
-  // health check (sim/diagnostics.cpp check_health)
-  double max_density_error = 0.5;
+  // the health rules' per-particle test (sim/health.cpp flag_pass)
+  double max_density_error = 0.5, max_speed = 1e300;
   double domain_min[D] = {}, domain_max[D] = {};
 };
 
@@ -82,14 +82,15 @@ class DeviceBackend {
  public:
   virtual ~DeviceBackend() = default;
   virtual const char* name() const = 0;  // "cuda" | "cuda_emulation"
-  // host store -> device (every field), then the device bins it; the host copy is then current too
+  // host store -> device (every field, as many particles as the store now holds: at most the count the
+  // backend was built for, since particles are only ever removed), then the device bins it
   virtual void upload() = 0;
   // device -> host store when the device is ahead (host-only fields reordered to the device's order)
   virtual void download() = 0;
   virtual bool device_ahead() const = 0;
   virtual DeviceStepReport step(DeviceStepState& state) = 0;
-  // lowest particle index failing the health check (non-finite, outside a closed axis, density error
-  // beyond the bound), or -1
+  // lowest particle index the health rules flag (sim/health.cpp flag_pass: a non-finite state; a fluid
+  // particle outside a closed axis, the density bounds or the speed bound), or -1
   virtual std::int64_t first_unhealthy() = 0;
   // a device-side copy of the checkpointed fields (the runner's last good state), and back
   virtual void snapshot_capture() = 0;

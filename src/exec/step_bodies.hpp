@@ -179,22 +179,27 @@ struct FluidSquaredDifferenceBody {
 };
 // the health check of sim/diagnostics.cpp: index of a fluid particle with a non-finite position,
 // velocity or density, outside a closed axis of the domain, or beyond the density-error bound
+// The health rules' per-particle test, comparison for comparison sim/health.cpp flag_pass's: a non-finite
+// position, velocity or density (any particle); a fluid particle outside a closed axis of the domain, outside
+// [rho_lo, rho_hi] or faster than the speed bound. The host's rules then decide (remove, or stop the run).
 template <int D>
 struct HealthBody {
   const Vec<D>* x;
   const Vec<D>* v;
   const Real* rho;
   const std::int32_t* kind;
-  double rho0, max_error;
+  double rho_lo, rho_hi, v2_max;
   double lo[D], hi[D];
   bool periodic[D];
   VARSPH_HD std::uint64_t operator()(std::size_t i) const {
     const std::uint64_t ok = ~std::uint64_t(0);
+    const double r = double(rho[i]);
+    bool finite = std::isfinite(r);
+    for (int a = 0; a < D; ++a) finite = finite && std::isfinite(double(x[i][a])) && std::isfinite(double(v[i][a]));
+    if (!finite) return std::uint64_t(i);
     if (kind[i] != kFluidKind) return ok;
-    bool bad = !std::isfinite(double(rho[i]));
-    for (int a = 0; a < D; ++a) bad = bad || !std::isfinite(double(x[i][a])) || !std::isfinite(double(v[i][a]));
-    for (int a = 0; a < D && !bad; ++a) bad = !periodic[a] && (double(x[i][a]) < lo[a] || double(x[i][a]) > hi[a]);
-    bad = bad || std::abs(double(rho[i]) / rho0 - 1.0) > max_error;
+    bool bad = r < rho_lo || r > rho_hi || double(v[i].squaredNorm()) > v2_max;
+    for (int a = 0; a < D; ++a) bad = bad || (!periodic[a] && (double(x[i][a]) < lo[a] || double(x[i][a]) > hi[a]));
     return bad ? std::uint64_t(i) : ok;
   }
 };

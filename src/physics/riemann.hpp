@@ -25,7 +25,7 @@ struct RiemannDissipation {
   Real rho0c0, eta_over_c0;
   RiemannDissipation(Real rho0, Real c0, Real eta) : rho0c0(rho0 * c0), eta_over_c0(eta / c0) {}
   // Pi_ij for the momentum equation; vx = v_ij . x_ij
-  Real pi(Real vx, Real r2, Real rho_i, Real rho_j) const {
+  VARSPH_HD Real pi(Real vx, Real r2, Real rho_i, Real rho_j) const {
     if (vx >= Real(0) || r2 <= Real(0)) return Real(0);
     const Real ua = -vx / std::sqrt(r2);
     const Real beta = std::min(eta_over_c0 * ua, Real(1));  // low-dissipation limiter (eq. 23)
@@ -55,7 +55,7 @@ struct RiemannDiffusion {
   Vec<D> g;
   RiemannDiffusion(Real rho0_, Real c0, const Vec<D>& g_) : inv_rho0c0(Real(1) / (rho0_ * c0)), rho0(rho0_), g(g_) {}
   // rho_i V_j (p_i - p_j - rho0 g . x_ij) / (rho0 c0) dW/dr with dW/dr = F r
-  Real term_p(Real p_i, Real p_j, Real rho_i, Real Vj, Real F, const Vec<D>& xij) const {
+  VARSPH_HD Real term_p(Real p_i, Real p_j, Real rho_i, Real Vj, Real F, const Vec<D>& xij) const {
     return rho_i * Vj * (p_i - p_j - rho0 * g.dot(xij)) * inv_rho0c0 * F * xij.norm();
   }
 };

@@ -241,6 +241,14 @@ void HealthMonitor<D>::flag_pass(const Simulation<D>& sim) {
 }
 
 template <int D>
+void HealthMonitor<D>::clean_step(long step) {
+  last_removed_.clear();
+  const std::size_t slot = std::size_t(step % spec_.removal_window);
+  window_sum_ -= window_[slot];
+  window_[slot] = 0;
+}
+
+template <int D>
 std::string HealthMonitor<D>::after_step(Simulation<D>& sim) {
   if (!started_) start(sim);
   last_removed_.clear();

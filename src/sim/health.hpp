@@ -67,6 +67,10 @@ class HealthMonitor {
   // After each step. Applies the removal rules and returns "" or, for a blow-up, the message naming the
   // rule, the particle or the figures (the state is then left as the step made it).
   std::string after_step(Simulation<D>& sim);
+  // A step the device's per-particle test found clean (exec/: a device run calls after_step only on a step
+  // with a flagged particle): nothing removed at `step`, which keeps the removal window's count exact. The
+  // energy rule is not evaluated on such steps (it would need the state on the host every step).
+  void clean_step(long step);
   // The per-particle part of after_step (flags, the energy of the fluid that stays) on the state after a
   // step. Every thread of a step's parallel region may call it (core/team.hpp: Simulation::advance runs it
   // there, saving the check its own fork/join); after_step uses its result, or runs it itself.

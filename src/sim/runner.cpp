@@ -162,8 +162,7 @@ class Runner {
       accumulate(rep);
       warn_dt_bound(sim.dt(), rep.dt_bound, sim.step());
       last_frame_at_current_ = false;
-      // device runs keep the strict check (a violation stops the run; no removal on the device: docs/gpu.md)
-      if (const std::string bad = sim.on_device() ? exec::check_device_health(sim) : health_.after_step(sim); !bad.empty()) {  // agreed by every rank
+      if (const std::string bad = sim.on_device() ? device_health(sim) : health_.after_step(sim); !bad.empty()) {  // agreed by every rank
         failure = handle_blow_up(sim, bad);
         exit_code = kExitNumerical;
         break;
@@ -429,6 +428,21 @@ class Runner {
     deferred_ = {};
     if (d.frame) write_frame_at(sim, d.frame_index, d.time, d.step, d.dt);
     if (d.checkpoint) write_checkpoint_of(sim, d.header);
+  }
+
+  // --- the health rules on a device run -------------------------------------------------------------
+  // The device tests every particle as flag_pass does (a reduction, no download); only a step with a
+  // flagged particle brings the state to the host, where the rules decide as on the CPU (remove and count,
+  // or stop the run), and the survivors go back to the device. Spray is rare, so the copies are too.
+  std::string device_health(Simulation<D>& sim) {
+    if (sim.device()->first_unhealthy() < 0) {
+      health_.clean_step(sim.step());
+      return {};
+    }
+    sim.sync_host();
+    const std::string bad = health_.after_step(sim);
+    if (bad.empty() && !health_.last_removed().empty()) sim.host_state_changed();
+    return bad;
   }
 
   // --- blow-up handling ---------------------------------------------------------------------------

@@ -160,8 +160,8 @@ TEST(DeviceRuns, RestartMovesBetweenCpuAndDevice) {
 
 TEST(DeviceRuns, BlowUpStopsLikeTheCpu) {
   const auto dir = test::scratch_dir("device_runs_blowup");
-  // a density bound the dam break exceeds within a few steps: exit 3, the last good state written
-  // the CPU with on_violation = stop, which a device run always does (no removal on the device)
+  // a density bound the dam break exceeds within a few steps, health.on_violation = "stop": exit 3, the last
+  // good state written; the device's per-particle test finds the step, the host's rules word the message
   const std::string tight = kShort + " --set health.max_density_error=0.004 --set 'health.on_violation=\"stop\"'";
   const auto rc = test::run_command(exe() + " run " + q(kPaper) + " -o " + q(dir / "cpu") + tight);
   const auto rd = test::run_command(exe() + " run " + q(kPaper) + " -o " + q(dir / "dev") + tight + " --device cuda_emulation");
@@ -174,9 +174,50 @@ TEST(DeviceRuns, BlowUpStopsLikeTheCpu) {
     return at == std::string::npos ? s : s.substr(0, s.find(':')) + " ... " + s.substr(at);
   };
   EXPECT_EQ(strip(rc.output, (dir / "cpu").string()), strip(rd.output, (dir / "dev").string()));
-  EXPECT_NE(rd.output.find("device health check"), std::string::npos) << rd.output;
+  EXPECT_NE(rd.output.find("health rule 'density' (health.on_violation = \"stop\")"), std::string::npos) << rd.output;
   EXPECT_NE(rd.output.find("numerical failure at step"), std::string::npos) << rd.output;
   EXPECT_FALSE(io::list_checkpoints(dir / "dev" / "checkpoints").empty());
+}
+
+// The health rules' removals (health.on_violation = "remove", the default) on the device: a block thrown
+// against the walls of a small box (tests/output/thrown_block.json) with bounds tightened so that all three
+// rules fire (measured on the CPU: 15 'domain', 7 'density', 3 'speed'; the rate and total rules relaxed):
+// the same particles at the same steps as on the CPU, the same diagnostics, the same survivors where they are.
+TEST(DeviceRuns, RemovalRulesLikeTheCpu) {
+  const auto dir = test::scratch_dir("device_runs_removal");
+  const auto scene = test::source_dir() / "tests" / "output" / "thrown_block.json";
+  const std::string sets = " --quiet --set health.max_density_error=0.01 --set health.max_mach=0.1"
+                           " --set health.max_removed_fraction=1 --set health.max_removed_total=1";
+  const auto rc = test::run_command(exe() + " run " + q(scene) + " -o " + q(dir / "cpu") + sets);
+  const auto rd = test::run_command(exe() + " run " + q(scene) + " -o " + q(dir / "dev") + sets + " --device cuda_emulation");
+  ASSERT_EQ(rc.exit_code, 0) << rc.output;
+  ASSERT_EQ(rd.exit_code, 0) << rd.output;
+  const auto ra = read_csv(dir / "cpu" / "removed.csv"), rb = read_csv(dir / "dev" / "removed.csv");
+  std::map<std::string, int> rules;
+  for (std::size_t r = 1; r < ra.size(); ++r) ++rules[ra[r].at(3)];
+  for (const char* rule : {"domain", "density", "speed"})
+    EXPECT_GT(rules[rule], 0) << "the CPU run removes particles by rule '" << rule << "' (else this test shows less)";
+  ASSERT_EQ(ra.size(), rb.size());
+  EXPECT_EQ(ra[0], rb[0]);
+  for (std::size_t r = 1; r < ra.size(); ++r) {  // step, time, id, rule equal; the state values within round-off
+    ASSERT_EQ(ra[r].size(), rb[r].size());
+    for (std::size_t c = 0; c < ra[r].size(); ++c) {
+      char* end = nullptr;
+      const double x = std::strtod(ra[r][c].c_str(), &end);
+      if (end == ra[r][c].c_str() || *end) {
+        EXPECT_EQ(ra[r][c], rb[r][c]) << ra[0][c] << " row " << r;
+        continue;
+      }
+      const double y = std::strtod(rb[r][c].c_str(), nullptr);
+      EXPECT_LE(std::abs(x - y), kTolRel * std::max(1.0, std::abs(x))) << ra[0][c] << " row " << r;
+    }
+  }
+  expect_same_table(dir / "cpu" / "diagnostics.csv", dir / "dev" / "diagnostics.csv", kTolRel);
+  for (const char* ck : {"step_000000100.h5", "step_000000200.h5"}) {
+    const auto a = dir / "cpu" / "checkpoints" / ck, b = dir / "dev" / "checkpoints" / ck;
+    ASSERT_TRUE(std::filesystem::exists(b)) << b;
+    EXPECT_LE(max_position_difference(a, b), 1e-9 * 0.02) << ck;  // thrown_block's spacing is 0.02 m
+  }
 }
 
 TEST(DeviceRuns, CudaWithoutADeviceIsRefused) {
