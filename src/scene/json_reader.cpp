@@ -69,7 +69,7 @@ namespace {
 const std::vector<std::string> kTopLevel = {"name", "dimension", "domain", "particles", "kernel", "gravity",
                                             "fluid", "bodies", "physics", "boundary", "integrator", "time",
                                             "output", "checkpoint", "probes", "log", "health", "execution",
-                                            "parallel"};
+                                            "parallel", "moorings", "contact"};
 
 std::vector<std::string> split_dots(const std::string& path) {
   std::vector<std::string> parts;

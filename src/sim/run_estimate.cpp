@@ -131,10 +131,12 @@ template <int D>
 std::string disk_estimate_line(const scene::Scene& s, const Simulation<D>& sim) {
   const auto& f = sim.fields();
   std::vector<std::uint32_t> walls, rest;
-  split_static(f.kind.data, f.body.data, sim.size(),
-               s.output_static_boundary == "once" ? static_bodies(s) : std::vector<bool>(), walls, rest);
+  split_static(f.kind.data, f.body.data, sim.size(), static_bodies(s), walls, rest);
+  const bool once = s.output_static_boundary == "once";
+  const double share = double(walls.size()) / double(std::max<std::size_t>(sim.size(), 1));
   const double per = frame_bytes_per_particle(s, sim), frames = frame_count(s);
-  const double frame = per * double(rest.size()) + 2700, stat = walls.empty() ? 0 : per * double(walls.size()) + 2700;
+  const double frame = per * double(once ? rest.size() : sim.size()) + 2700,
+               stat = once && !walls.empty() ? per * double(walls.size()) + 2700 : 0;
   double ckpt = 0;
   for (const auto& fb : sim.store().fields())
     if (fb->flags().checkpointed) ckpt += double(fb->bytes_per_particle());
@@ -142,7 +144,10 @@ std::string disk_estimate_line(const scene::Scene& s, const Simulation<D>& sim) 
   return "estimate: " + std::to_string(std::llround(frames)) + " frames x " + human_bytes(frame) +
          (stat > 0 ? " + the static walls once, " + human_bytes(stat) : std::string()) + " = " +
          human_bytes(frames * frame + stat) + " of frames, 2 checkpoints x " + human_bytes(ckpt) +
-         " (varsph info estimates memory and time too)";
+         " (varsph info estimates memory and time too)" +
+         (!once && share > 0.5 ? "; static walls are " + std::to_string(std::llround(100 * share)) +
+                                     " % of every frame: output.static_boundary = \"once\" writes them once"
+                               : std::string());
 }
 template std::string disk_estimate_line<2>(const scene::Scene&, const Simulation<2>&);
 template std::string disk_estimate_line<3>(const scene::Scene&, const Simulation<3>&);

@@ -69,6 +69,12 @@ TEST(RunEstimate, AFrameMostlyOfStaticWallsPointsToLeanFrames) {
   std::string out = info(scene + " --set 'output.static_boundary=\"every_frame\"'");
   EXPECT_NE(out.find("static walls are 93 % of every frame: output.static_boundary = \"once\" writes them once"),
             std::string::npos) << out;
+  // and at the start of the run, before any frame is written
+  const auto dir = test::scratch_dir("run_estimate_static");
+  const auto r = test::run_command(test::varsph_exe().string() + " run " + scene +
+                                   " --set 'output.static_boundary=\"every_frame\"' --set time.end=0.001 --threads 1 -o " +
+                                   (dir / "run").string() + " --overwrite");
+  EXPECT_NE(r.output.find("static walls are 93 % of every frame"), std::string::npos) << r.output;
   out = info(scene);  // it asks for "once" already: said as the static walls' file
   EXPECT_EQ(out.find("static walls are"), std::string::npos) << out;
   EXPECT_NE(out.find("+ the static walls once"), std::string::npos) << out;
