@@ -112,15 +112,15 @@ double rigid_signed_distance(const scene::BodySpec& b, const Vec<D>& p) {
   return std::numeric_limits<double>::infinity();
 }
 
-// Removes fluid particles inside a rigid body or closer than half a spacing to its surface (the body's
-// own particles sit half a spacing inside it, so its clearance is one spacing, as between lattice rows).
+// Removes fluid particles inside a rigid box, sphere or cylinder (rigid_lattice_points gave the body the
+// lattice points inside it: together they fill the lattice).
 template <int D>
 std::size_t remove_fluid_inside_rigid(const scene::Scene& s, InitialParticles<D>& p) {
   std::vector<const scene::BodySpec*> rigid;
   for (const auto& b : s.bodies)
     if (b.kind == "rigid" && b.shape != "mesh") rigid.push_back(&b);
   if (rigid.empty()) return 0;
-  const double clear = 0.5 * s.spacing * (1 - 1e-6);
+  const double clear = 0;  // the body took the lattice points inside it: the fluid keeps those outside
   std::size_t kept = 0, removed = 0;
   for (std::size_t i = 0; i < p.x.size(); ++i) {
     bool drop = false;
@@ -135,6 +135,88 @@ std::size_t remove_fluid_inside_rigid(const scene::Scene& s, InitialParticles<D>
   p.x.resize(kept); p.v.resize(kept); p.normal.resize(kept); p.rho.resize(kept);
   p.mass.resize(kept); p.kind.resize(kept); p.body.resize(kept); p.wall_distance.resize(kept);
   return removed;
+}
+
+// Volume of a rigid shape (area in 2D) [m^d].
+template <int D>
+double bodies_shape_volume(const scene::BodySpec& b) {
+  if (b.shape == "box") {
+    double v = 1;
+    for (int a = 0; a < D; ++a) v *= b.max[std::size_t(a)] - b.min[std::size_t(a)];
+    return v;
+  }
+  const double pi = 3.14159265358979323846, r2 = b.radius * b.radius;
+  if (D == 2) return pi * r2;
+  if (b.shape == "sphere") return 4.0 / 3.0 * pi * r2 * b.radius;
+  return pi * r2 * b.rigid.cylinder_length;
+}
+
+// The nearest point of a rigid shape's surface to a point inside it.
+template <int D>
+Vec<D> rigid_nearest_surface(const scene::BodySpec& b, const Vec<D>& p) {
+  Vec<D> q = p;
+  if (b.shape == "box") {
+    int axis = 0;
+    double best = 1e300, face = 0;
+    for (int a = 0; a < D; ++a)
+      for (double f : {b.min[std::size_t(a)], b.max[std::size_t(a)]})
+        if (std::abs(double(p[a]) - f) < best) {
+          best = std::abs(double(p[a]) - f);
+          axis = a;
+          face = f;
+        }
+    q[axis] = Real(face);
+    return q;
+  }
+  const Vec<D> c = to_vec<D>(b.center), r = p - c;
+  if (b.shape == "sphere" || D == 2) return r.norm() > 0 ? Vec<D>(c + r.normalized() * Real(b.radius)) : p;
+  Vec<D> e = to_vec<D>(b.rigid.cylinder_axis);
+  e /= e.norm();
+  const Real along = r.dot(e);
+  const Vec<D> radial = r - along * e;
+  const double rr = double(radial.norm()), to_mantle = b.radius - rr,
+               to_end = 0.5 * b.rigid.cylinder_length - std::abs(double(along));
+  if (to_mantle < to_end) return rr > 0 ? Vec<D>(c + along * e + radial * Real(b.radius / rr)) : p;
+  return p + Real((along >= 0 ? 1 : -1) * to_end) * e;
+}
+
+// Points of the fluid lattice (cell centres from the first fluid box's corner, else the domain's) inside a
+// rigid box, sphere or cylinder, `layers` deep (0: all), with the normal out of the body to the nearest
+// surface point and the distance to it (remove_fluid_inside_rigid takes the complement).
+template <int D>
+void rigid_lattice_points(const scene::Scene& s, const scene::BodySpec& b, double dx, std::vector<Vec<D>>& pts,
+                          std::vector<Vec<D>>& normals, std::vector<Real>& dists) {
+  Vec<D> origin = to_vec<D>(s.domain_min);
+  for (const auto& f : s.bodies)
+    if (f.kind == "fluid" && f.shape == "box") {
+      origin = to_vec<D>(f.min);
+      break;
+    }
+  Vec<D> lo, hi;
+  if (b.shape == "box") {
+    lo = to_vec<D>(b.min);
+    hi = to_vec<D>(b.max);
+  } else {
+    const double ext = b.shape == "cylinder" && D == 3 ? b.radius + 0.5 * b.rigid.cylinder_length : b.radius;
+    lo = to_vec<D>(b.center).array() - Real(ext);
+    hi = to_vec<D>(b.center).array() + Real(ext);
+  }
+  std::array<long, D> first, last;
+  for (int a = 0; a < D; ++a) {
+    first[a] = long(std::floor(double(lo[a] - origin[a]) / dx - 0.5)) - 1;
+    last[a] = long(std::ceil(double(hi[a] - origin[a]) / dx - 0.5)) + 2;
+  }
+  const double depth = b.layers > 0 ? double(b.layers) * dx : 1e300;
+  for_each_lattice_point<D>(first, last, origin, dx, [&](const Vec<D>& p, auto&) {
+    const double sd = rigid_signed_distance<D>(b, p);
+    if (!(sd < 0) || -sd > depth) return;
+    const Vec<D> q = rigid_nearest_surface<D>(b, p);
+    const Vec<D> d = q - p;
+    const Real len = d.norm();
+    pts.push_back(p);
+    normals.push_back(len > 0 ? Vec<D>(d / len) : Vec<D>::Zero());
+    dists.push_back(len);
+  });
 }
 
 }  // namespace
@@ -171,14 +253,28 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
       dists.push_back(len);
     };
 
-    if (b.shape == "box" || b.shape == "tank") {
+    if (rigid && b.shape != "mesh") {
+      // a rigid shape takes the points of the fluid's own lattice inside it (as DualSPHysics draws every
+      // body on one grid): fluid and body particles then fill space evenly, with no gap between them wider
+      // than a spacing (a body on a lattice of its own, half a spacing off, left a 1.5 dx void around it
+      // that cut the fluid's pressure force on it by half: a submerged disc had 37 % of its buoyancy)
+      rigid_lattice_points<D>(s, b, dx, pts, normals, dists);
+      // the fluid feels the particles' volume, the body's mass comes from the exact shape: say when the
+      // lattice misses much of the shape (a face between lattice lines, a body a few spacings across)
+      const double vol = bodies_shape_volume<D>(b), got = double(pts.size()) * cell_volume;
+      if (b.layers == 0 && vol > 0 && std::abs(got / vol - 1) > 0.05)
+        std::fprintf(stderr, "varsph: note: %s: its particles fill %.1f %% of the shape's volume (faces between the "
+                     "fluid's lattice lines, or a body a few spacings across): the water sees the particles; place "
+                     "faces on lattice lines (multiples of particles.spacing from the fluid's corner) or refine\n",
+                     where.c_str(), 100 * got / vol);
+    } else if (b.shape == "box" || b.shape == "tank") {
       const Vec<D> lo = to_vec<D>(b.min), hi = to_vec<D>(b.max);
       std::array<long, D> n{};
       for (int a = 0; a < D; ++a) {
         n[a] = cells_in(b.max[a] - b.min[a], dx);
         if (n[a] < 1) throw InputError(where + ": the box is thinner than one particle spacing on axis " + std::to_string(a));
       }
-      const long L = b.kind == "rigid" && b.layers == 0 ? std::numeric_limits<long>::max() : long(b.layers);
+      const long L = b.layers;
       if (b.shape == "box" && kind == 0) {
         for_each_lattice_point<D>({}, n, lo, dx, [&](const Vec<D>& p, auto&) { pts.push_back(p); });
       } else if (b.shape == "box") {
@@ -216,36 +312,7 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
         });
         (void)hi;
       }
-    } else if (b.shape == "cylinder" && D == 3) {
-      // solid cylinder (rigid bodies): lattice points within the radius of the axis and half the length
-      // along it; the interface is its surface, `layers` deep (0: all of it)
-      const Vec<D> c = to_vec<D>(b.center);
-      Vec<D> e = to_vec<D>(b.rigid.cylinder_axis);
-      e /= e.norm();
-      const double R = b.radius, H = 0.5 * b.rigid.cylinder_length;
-      const long n = long(std::ceil(std::max(R, H) / dx)) + 1;
-      std::array<long, D> f, l;
-      f.fill(-n);
-      l.fill(n);
-      Vec<D> origin = c;
-      for (int a = 0; a < D; ++a) origin[a] -= Real(0.5 * dx);
-      const double depth_max = b.layers > 0 ? double(b.layers) * dx : 1e300;
-      for_each_lattice_point<D>(f, l, origin, dx, [&](const Vec<D>& p, auto&) {
-        const Vec<D> r = p - c;
-        const double along = double(r.dot(e));
-        const Vec<D> radial = r - Real(along) * e;
-        const double rr = double(radial.norm());
-        if (rr > R - 0.5 * dx + 1e-9 * dx || std::abs(along) > H - 0.5 * dx + 1e-9 * dx) return;
-        // nearest point of the surface: the mantle or an end face
-        const double to_mantle = R - rr, to_end = H - std::abs(along);
-        if (std::min(to_mantle, to_end) > depth_max) return;
-        pts.push_back(p);
-        Vec<D> q = p;
-        if (to_mantle < to_end) q = rr > 0 ? Vec<D>(c + Real(along) * e + radial * Real(R / rr)) : p;
-        else q = p + Real((along >= 0 ? 1 : -1) * to_end) * e;
-        toward(p, q);
-      });
-    } else if (b.shape == "sphere" || b.shape == "cylinder") {  // a 2D cylinder is a disc
+    } else if (b.shape == "sphere") {
       const Vec<D> c = to_vec<D>(b.center);
       const long n = long(std::ceil(b.radius / dx)) + 1;
       std::array<long, D> f, l;
@@ -255,13 +322,10 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
       for (int a = 0; a < D; ++a) origin[a] -= Real(0.5 * dx);  // a lattice point sits at the centre
       for_each_lattice_point<D>(f, l, origin, dx, [&](const Vec<D>& p, auto&) {
         const Vec<D> r = p - c;
-        // a rigid ball's surface is its radius (the lattice fills it as a box fills [min, max]); a boundary
-        // ball's surface sits half a spacing beyond its outermost lattice points
-        const double surface = rigid ? b.radius : b.radius + 0.5 * dx;
-        if (double(r.norm()) > surface - 0.5 * dx + 1e-9 * dx) return;
-        if (rigid && b.layers > 0 && double(r.norm()) < surface - double(b.layers) * dx) return;
+        if (double(r.norm()) > b.radius + 1e-9 * dx) return;
         pts.push_back(p);
-        if (kind == 1) toward(p, r.norm() > 0 ? Vec<D>(c + r.normalized() * Real(surface)) : p);
+        // the solid ball's surface sits half a spacing beyond its outermost lattice points
+        if (kind == 1) toward(p, r.norm() > 0 ? Vec<D>(c + r.normalized() * Real(b.radius + 0.5 * dx)) : p);
       });
     } else if (b.shape == "points") {
       for (auto& q : b.points) pts.push_back(to_vec<D>(q));
@@ -305,8 +369,7 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
     (void)first;
   }
   if (const std::size_t inside = remove_fluid_inside_rigid<D>(s, out)) {
-    std::fprintf(stderr, "varsph: note: %s: removed %zu fluid particles inside rigid bodies (or within half a spacing "
-                 "of their surface)\n", s.file.string().c_str(), inside);
+    std::fprintf(stderr, "varsph: note: %s: removed %zu fluid particles inside rigid bodies\n", s.file.string().c_str(), inside);
   }
   if (const std::size_t removed = remove_fluid_near_walls<D>(out, s.min_boundary_distance)) {
     std::fprintf(stderr, "varsph: note: %s: removed %zu fluid particles closer than %g m to boundary particles "
