@@ -82,8 +82,8 @@ TEST(BodiesValidation, FloatingBoxes2DSettleAtTheArchimedesDraft) {
   for (double rel : {0.3, 0.5, 0.8}) {
     const double e = archimedes_error<2>("floating_box_2d", rel, 3.0, 1.2, 0.2, 0.1, {"particles.spacing=0.01"});
     // The goal is 1 % of the body height; at h/dx = 10 this measured 0.8, 1.5 and 3.3 % (the box
-    // floats high: the kernel sees its bottom corners as part of its bottom, an effective width of about
-    // b + dx; docs/validation.md section 18). A regression guard at the measured level, not the goal.
+    // floats high, more the deeper it floats; docs/validation.md section 18). A regression guard at the
+    // measured level, not the goal.
     EXPECT_LT(std::abs(e), 0.04) << "relative density " << rel;
   }
 }
