@@ -38,6 +38,22 @@ void for_each_lattice_point(const std::array<long, D>& first, const std::array<l
   }
 }
 
+// Keeps the particles whose `drop` flag is 0, in order; returns how many were dropped.
+template <int D>
+std::size_t drop_particles(InitialParticles<D>& p, const std::vector<char>& drop) {
+  std::size_t kept = 0, removed = 0;
+  for (std::size_t i = 0; i < p.x.size(); ++i) {
+    if (drop[i]) { ++removed; continue; }
+    p.x[kept] = p.x[i]; p.v[kept] = p.v[i]; p.normal[kept] = p.normal[i]; p.rho[kept] = p.rho[i];
+    p.mass[kept] = p.mass[i]; p.kind[kept] = p.kind[i]; p.body[kept] = p.body[i];
+    p.wall_distance[kept] = p.wall_distance[i];
+    ++kept;
+  }
+  p.x.resize(kept); p.v.resize(kept); p.normal.resize(kept); p.rho.resize(kept);
+  p.mass.resize(kept); p.kind.resize(kept); p.body.resize(kept); p.wall_distance.resize(kept);
+  return removed;
+}
+
 // Removes fluid particles closer than `dist` to any boundary particle (overlapping bodies); returns
 // how many were removed.
 template <int D>
@@ -65,17 +81,7 @@ std::size_t remove_fluid_near_walls(InitialParticles<D>& p, double dist) {
           }
         }
     }
-  std::size_t kept = 0, removed = 0;
-  for (std::size_t i = 0; i < p.x.size(); ++i) {
-    if (drop[i]) { ++removed; continue; }
-    p.x[kept] = p.x[i]; p.v[kept] = p.v[i]; p.normal[kept] = p.normal[i]; p.rho[kept] = p.rho[i];
-    p.mass[kept] = p.mass[i]; p.kind[kept] = p.kind[i]; p.body[kept] = p.body[i];
-    p.wall_distance[kept] = p.wall_distance[i];
-    ++kept;
-  }
-  p.x.resize(kept); p.v.resize(kept); p.normal.resize(kept); p.rho.resize(kept);
-  p.mass.resize(kept); p.kind.resize(kept); p.body.resize(kept); p.wall_distance.resize(kept);
-  return removed;
+  return drop_particles(p, drop);
 }
 
 template <int D>
@@ -120,21 +126,12 @@ std::size_t remove_fluid_inside_rigid(const scene::Scene& s, InitialParticles<D>
   for (const auto& b : s.bodies)
     if (b.kind == "rigid" && b.shape != "mesh") rigid.push_back(&b);
   if (rigid.empty()) return 0;
-  const double clear = 0;  // the body took the lattice points inside it: the fluid keeps those outside
-  std::size_t kept = 0, removed = 0;
-  for (std::size_t i = 0; i < p.x.size(); ++i) {
-    bool drop = false;
+  // the body took the lattice points inside it: the fluid keeps those outside
+  std::vector<char> drop(p.x.size(), 0);
+  for (std::size_t i = 0; i < p.x.size(); ++i)
     if (p.kind[i] == 0)
-      for (const auto* b : rigid) drop = drop || rigid_signed_distance<D>(*b, p.x[i]) < clear;
-    if (drop) { ++removed; continue; }
-    p.x[kept] = p.x[i]; p.v[kept] = p.v[i]; p.normal[kept] = p.normal[i]; p.rho[kept] = p.rho[i];
-    p.mass[kept] = p.mass[i]; p.kind[kept] = p.kind[i]; p.body[kept] = p.body[i];
-    p.wall_distance[kept] = p.wall_distance[i];
-    ++kept;
-  }
-  p.x.resize(kept); p.v.resize(kept); p.normal.resize(kept); p.rho.resize(kept);
-  p.mass.resize(kept); p.kind.resize(kept); p.body.resize(kept); p.wall_distance.resize(kept);
-  return removed;
+      for (const auto* b : rigid) drop[i] = drop[i] || rigid_signed_distance<D>(*b, p.x[i]) < 0;
+  return drop_particles(p, drop);
 }
 
 // Volume of a rigid shape (area in 2D) [m^d].
