@@ -110,7 +110,9 @@ std::vector<std::string> engineering_sets() {
 
 void run_dam_break(const std::string& device, double dp, int steps, const std::vector<std::string>& sets,
                    bool engineering) {
-  std::vector<std::string> o = {"particles.spacing=" + std::to_string(dp), "execution.device=\"" + device + "\""};
+  // particles.max_count: the scene's default guard (1e7) would refuse DualSPHysics' finest size (10.8 M at dp 0.002)
+  std::vector<std::string> o = {"particles.spacing=" + std::to_string(dp), "execution.device=\"" + device + "\"",
+                                "particles.max_count=5e7"};
   o.insert(o.end(), sets.begin(), sets.end());
   const auto s = scene::parse_scene(source_dir_or(VARSPH_SOURCE_DIR) + "/pipelines/dam_break_3d_dsph.json", o);
   const auto t_setup = std::chrono::steady_clock::now();

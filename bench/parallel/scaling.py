@@ -43,14 +43,32 @@ def mpirun_prefix(ranks, bind):
 
 def initial_dt(varsph, sets, scene=SCENE, acoustic=False):
     """The first step's dt from `varsph info`: the scene's fixed dt, else (or with acoustic=True) the acoustic
-    CFL limit it prints ("CFL limits  acoustic ...; with C = 0.2: 8e-05 s")."""
-    out = subprocess.run([varsph, "info", scene] + sets, capture_output=True, text=True, check=True).stdout
+    CFL limit it prints ("CFL limits  acoustic ...; with C = 0.2: 8e-05 s"). `varsph info` samples (and prints
+    the CFL limits) only up to --calibrate-max particles: above that the limit is read at a coarser spacing and
+    scaled, as C h / c0 is linear in dx at a fixed h/dx (c0 comes from the depth, not from dx)."""
+    def info(s):
+        return subprocess.run([varsph, "info", scene] + s, capture_output=True, text=True, check=True).stdout
+    out = info(sets)
     m = None if acoustic else re.search(r"^dt\s+([0-9.eE+-]+) s", out, re.M)  # "dt  0.000100 s (fixed)"
-    if not m:
-        m = re.search(r"with C = [0-9.eE+-]+: ([0-9.eE+-]+) s", out)
-    if not m:
-        sys.exit("scaling.py: could not read dt from `varsph info`:\n" + out)
-    return float(m.group(1))
+    if m:
+        return float(m.group(1))
+    m = re.search(r"with C = [0-9.eE+-]+: ([0-9.eE+-]+) s", out)
+    if m:
+        return float(m.group(1))
+    spacing = [i for i, s in enumerate(sets) if s.startswith("particles.spacing=")]
+    if spacing:
+        dx = float(sets[spacing[-1]].split("=", 1)[1])
+        coarse = list(sets)
+        # a coarser copy's wall layers may not fit the domain: the next factor is tried
+        for factor in (2.0, 1.5, 3.0, 1.25, 4.0, 6.0, 8.0):
+            coarse[spacing[-1]] = "particles.spacing=%.9g" % (dx * factor)
+            try:
+                m = re.search(r"with C = [0-9.eE+-]+: ([0-9.eE+-]+) s", info(coarse))
+            except subprocess.CalledProcessError:
+                continue
+            if m:
+                return float(m.group(1)) / factor
+    sys.exit("scaling.py: could not read dt from `varsph info`:\n" + out)
 
 
 def run_one(args, ranks, dx, tag):
