@@ -81,8 +81,9 @@ TEST(Wavemaker, PistonFollowsTheBieselStrokeWithItsVelocityAndAcceleration) {
   }
   EXPECT_EQ(paddle, 3 * 16);
   // no water passed the paddle
-  for (std::size_t i = 0; i < sim.size(); ++i)
-    if (f.kind[i] == 0) EXPECT_GT(double(f.x[i][0]), X.q - 0.0) << "fluid particle behind the paddle";
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    if (f.kind[i] == 0) EXPECT_GT(double(f.x[i][0]), X.q) << "fluid particle behind the paddle's face";
+  }
 }
 
 TEST(Wavemaker, FlapTurnsAboutItsHingeSoThatTheStillWaterLevelMovesByX) {
