@@ -144,7 +144,8 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
   sim.recount_kinds();
   sim.set_clock(h.time, long(h.step));
   restore_rigid_bodies(sim, h.integrator_state, file);  // before the sort places their particles
-  sim.restore_flow_state(h.integrator_state.value("flow", nlohmann::json()));  // id counter, mass balance
+  // id counter and flows (in the runner state: in a distributed run their sums agree to round-off only)
+  sim.restore_flow_state(h.runner_state.value("flow", nlohmann::json()));
   // the arrays are in the order of the checkpointed step's cell sort; sorting again is stable, so this
   // rebuilds the neighbour grid for them without changing the order (checked by the restart tests)
   sim.sort_and_bin();
@@ -168,8 +169,8 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
   h.integrator = integ.name();
   h.integrator_state = integ.save_state();
   if (const auto* b = sim.rigid_bodies()) h.integrator_state["rigid_bodies"] = b->save_state();
-  h.integrator_state["flow"] = sim.save_flow_state();
   h.runner_state = runner_state;
+  h.runner_state["flow"] = sim.save_flow_state();
   return h;
 }
 

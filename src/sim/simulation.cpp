@@ -128,6 +128,9 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     open_zone_ = &store_.get<std::int32_t>("open_zone");
     open_->setup(*this, rates_->support());
   }
+  // the fluid mass at t = 0 in build order, before a distributed run splits the particles: the same bits in
+  // one process and on every rank
+  flow_.mass0 = fluid_mass();
 
   {
     std::vector<MotionLaw<D>> laws;
@@ -196,7 +199,6 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
   }
   update_pressure();
   if (open_) open_->initial_values(*this);
-  flow_.mass0 = fluid_mass();
   dt_ = scene.dt ? *scene.dt : cfl_dt();
   integrator_->initialize(*this);
   // one parallel region per step (core/team.hpp) for schemes written for it, in one process on the CPU

@@ -132,5 +132,18 @@ TEST(MpiQuick, MdbcWallsAreRefusedOnTwoRanksWithExitTwoAndOneMessage) {
   EXPECT_EQ(r.output.find("MPI_ABORT"), std::string::npos) << r.output;
 }
 
+// issue 32: created particles are not migrated bitwise yet, so open boundaries are refused on several ranks
+TEST(MpiQuick, OpenBoundariesAreRefusedOnTwoRanksNamingTheKey) {
+  const auto dir = scratch_dir("mpi_quick_open");
+  const auto scene = write_scene(dir, nlohmann::json::parse(test::read_text(source_dir() / "pipelines/open/channel_poiseuille.json")));
+  const auto r = run_varsph(2, scene, dir / "out");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  std::size_t count = 0;
+  for (std::size_t at = 0; (at = r.output.find("varsph: error:", at)) != std::string::npos; ++at) ++count;
+  EXPECT_EQ(count, 1u) << r.output;
+  EXPECT_NE(r.output.find("key 'open_boundaries': inlets and outlets are not available on several MPI ranks"),
+            std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace varsph::test
