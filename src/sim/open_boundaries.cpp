@@ -7,12 +7,69 @@
 #include <cmath>
 #include <sstream>
 
+#include <Eigen/Dense>
+
 #include "core/errors.hpp"
 #include "kernels/kernel_eval.hpp"
 #include "physics/corrected_interpolation.hpp"
 #include "physics/pair_loop.hpp"
 
 namespace varsph {
+
+namespace {
+
+// The first-order corrected interpolation of physics/corrected_interpolation.hpp (Liu & Liu 2006) for the
+// density and the D velocity components at one ghost node at once: one moment matrix, D + 1 right-hand
+// sides, one inverse; the same fallbacks (Shepard where nearly dry or ill conditioned, the same limits).
+template <int D>
+class GhostFit {
+ public:
+  static constexpr int F = D + 1;  // fields: rho, v_0 .. v_{D-1}
+  explicit GhostFit(double support) : inv_s_(1.0 / support) {}
+  void add(const Vec<D>& x_gj, double w, double Fg, double V, double rho, const Vec<D>& v) {
+    Eigen::Matrix<double, D + 1, 1> u, e;
+    u[0] = w;
+    e[0] = 1;
+    for (int a = 0; a < D; ++a) {
+      u[a + 1] = Fg * double(x_gj[a]) / inv_s_;
+      e[a + 1] = -double(x_gj[a]) * inv_s_;
+    }
+    A_.noalias() += (V * u) * e.transpose();
+    Eigen::Matrix<double, 1, F> fj;
+    fj[0] = rho;
+    for (int a = 0; a < D; ++a) fj[1 + a] = double(v[a]);
+    B_.noalias() += (V * u) * fj;
+    ++count_;
+  }
+  // False when no fluid neighbour at all (keep the prescribed or previous values).
+  bool solve() {
+    using CI = physics::CorrectedInterpolation<D>;
+    const double ksum = A_(0, 0);
+    if (count_ == 0 || !(ksum > 0)) return false;
+    sol_.setZero();
+    sol_.row(0) = B_.row(0) / ksum;  // Shepard
+    if (ksum < CI::kSubmerged) return true;
+    const double det = A_.determinant();
+    if (!(std::abs(det) >= CI::kDetMin)) return true;
+    const Eigen::Matrix<double, D + 1, D + 1> inv = A_.inverse();
+    const double cond = A_.cwiseAbs().rowwise().sum().maxCoeff() * inv.cwiseAbs().rowwise().sum().maxCoeff();
+    if (!(cond <= CI::kCondMax)) return true;
+    sol_ = inv * B_;
+    sol_.template bottomRows<D>() *= inv_s_;
+    return true;
+  }
+  double value(int field) const { return sol_(0, field); }
+  Eigen::Matrix<double, D, 1> gradient(int field) const { return sol_.col(field).template tail<D>(); }
+
+ private:
+  double inv_s_;
+  Eigen::Matrix<double, D + 1, D + 1> A_ = Eigen::Matrix<double, D + 1, D + 1>::Zero();
+  Eigen::Matrix<double, D + 1, F> B_ = Eigen::Matrix<double, D + 1, F>::Zero();
+  Eigen::Matrix<double, D + 1, F> sol_ = Eigen::Matrix<double, D + 1, F>::Zero();
+  int count_ = 0;
+};
+
+}  // namespace
 
 template <int D>
 OpenBoundaries<D>::OpenBoundaries(const scene::Scene& s, ParticleStore& store) : scene_(s) {
@@ -322,29 +379,20 @@ void OpenBoundaries<D>::impose(Simulation<D>& sim) {
       // ghost node: the buffer particle's mirror image across the interface, inside the fluid
       Vec<D> xg = x[i];
       xg[z.axis] = Real(2) * z.face - x[i][z.axis];
-      using Interp = physics::CorrectedInterpolation<D>;
-      Interp irho{double(support)};
-      auto iv = [&]<std::size_t... k>(std::index_sequence<k...>) {
-        return std::array<Interp, D>{((void)k, Interp(double(support)))...};
-      }(std::make_index_sequence<std::size_t(D)>());
+      GhostFit<D> fit{double(support)};
       grid.for_each_near(xg, f.x.data, support, [&](std::uint32_t j, const Vec<D>& xgj) {
         if (kind[j] != 0 || zone[j] >= 0) return;
         const auto k = W(xgj.norm());
         if (k.w <= 0) return;
-        const double V = double(mass[j]) / double(rho[j]);
-        if (need_rho) irho.add(xgj, double(k.w), double(k.grad_factor), V, double(rho[j]));
-        if (need_v)
-          for (int a = 0; a < D; ++a) iv[std::size_t(a)].add(xgj, double(k.w), double(k.grad_factor), V, double(v[j][a]));
+        fit.add(xgj, double(k.w), double(k.grad_factor), double(mass[j]) / double(rho[j]), double(rho[j]), v[j]);
       });
-      if (need_rho) {
-        const auto r = irho.solve();  // first order: rho_g + (x - x_g) . grad rho_g (Tafuni 2018 eq. 20)
-        if (!r.empty) rhoi = Real(r.value + r.gradient.dot((x[i] - xg).template cast<double>()));
+      if (fit.solve()) {
+        // density to first order: rho_g + (x - x_g) . grad rho_g (Tafuni 2018 eq. 20)
+        if (need_rho) rhoi = Real(fit.value(0) + fit.gradient(0).dot((x[i] - xg).template cast<double>()));
+        // velocity with zero gradient: the ghost node's value (Tafuni 2018 eq. 21)
+        if (need_v)
+          for (int a = 0; a < D; ++a) vi[a] = Real(fit.value(1 + a));
       }
-      if (need_v)
-        for (int a = 0; a < D; ++a) {  // zero gradient: the ghost node's value (Tafuni 2018 eq. 21)
-          const auto r = iv[std::size_t(a)].solve();
-          if (!r.empty) vi[a] = Real(r.value);
-        }
     }
     v[i] = vi;
     rho[i] = rhoi;
