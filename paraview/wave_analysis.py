@@ -71,12 +71,15 @@ def statistics(t, eta):
 
 
 def goda_suzuki(t, eta1, eta2, dl, depth, band=None, g=G):
-    """Incident and reflected energies of two gauges dl apart (eta1 nearer the paddle). Uniform sampling."""
+    """Incident and reflected energies of two gauges dl apart (eta1 nearer the paddle); records sampled unevenly
+    are interpolated linearly onto a uniform grid of as many points."""
     t = np.asarray(t, float)
     n = len(t)
     dt = (t[-1] - t[0]) / (n - 1)
     if np.max(np.abs(np.diff(t) - dt)) > 1e-6 * dt:
-        raise ValueError("goda_suzuki: the gauges must be sampled at a constant rate")
+        # probe rows fall on the first step at or after each sampling time: resample onto a uniform grid
+        tu = np.linspace(t[0], t[-1], n)
+        eta1, eta2, t = np.interp(tu, t, eta1), np.interp(tu, t, eta2), tu
     z1 = 2 * np.fft.rfft(np.asarray(eta1, float) - np.mean(eta1)) / n
     z2 = 2 * np.fft.rfft(np.asarray(eta2, float) - np.mean(eta2)) / n
     f = np.fft.rfftfreq(n, dt)
