@@ -37,6 +37,29 @@ def r(x, n=6):
     return round(x, n)
 
 
+def to_3d(scene, width):
+    """The same flume as a basin section `width` wide, periodic across (y), vertical z."""
+    def v3(p, y):
+        return [p[0], y, p[1]]
+    scene["dimension"] = 3
+    scene["domain"] = {"min": v3(scene["domain"]["min"], 0.0), "max": v3(scene["domain"]["max"], width),
+                       "periodic": [False, True, False]}
+    scene["gravity"] = [0.0, 0.0, -9.81]
+    for b in scene["bodies"]:
+        b["min"], b["max"] = v3(b["min"], 0.0), v3(b["max"], width)
+        m = b.get("motion")
+        if m and "hinge" in m:
+            m["hinge"] = v3(m["hinge"], width / 2)
+    for p in scene["probes"]:
+        if "from" in p:
+            p["from"] = v3(p["from"], width / 2)
+    z = scene["physics"].get("damping_zone")
+    if z:
+        z["from"], z["to"] = v3(z["from"], 0.0), v3(z["to"], 0.0)
+    scene["description"] = scene["description"].replace("2D wave flume", "3D basin section %g m wide (periodic across)" % width)
+    return scene
+
+
 def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_lengths=1.0, order=1):
     k = kh / h
     omega = math.sqrt(9.81 * k * math.tanh(kh))
@@ -100,6 +123,7 @@ def main():
     scenes = [
         flume("piston_flume_2d", "piston", 0.2, 0.04, 1.5, 10, 10),
         flume("flap_flume_2d", "flap", 0.2, 0.04, 1.5, 10, 10),
+        to_3d(flume("piston_basin_3d", "piston", 0.2, 0.04, 1.5, 5, 10), 0.096),
     ]
     for s in scenes:
         path = os.path.join(a.out, s["name"] + ".json")
