@@ -65,12 +65,13 @@ def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_length
     omega = math.sqrt(9.81 * k * math.tanh(kh))
     T = 2 * math.pi / omega
     L = 2 * math.pi / k
-    dx = H / per_height
+    rows = int(round(h * per_height / H))  # whole rows of particles in the depth: the water is exactly h deep
+    dx = h / rows
     hs = piston_hs(kh) if paddle == "piston" else flap_hs(kh)
     S = H / hs
     xzone = 2.1 * L
     length = xzone + zone_lengths * L
-    length = math.ceil(length / dx) * dx
+    length = math.ceil(length / dx - 1e-9) * dx
     gauges = [1.0, 1.25, 1.5, 2.0]
     motion = {"type": paddle, "waves": "regular", "height": H, "period": r(T, 9), "ramp": r(2 * T, 6)}
     if order == 2:
@@ -89,7 +90,7 @@ def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_length
                                              (1.0 + 2.0) * T, 1.25 * L, 1.5 * L, H, T)),
         "dimension": 2,
         "domain": {"min": [r(-back - 4 * dx), r(-4 * dx)], "max": [r(length + 4 * dx), r(2.2 * h)]},
-        "particles": {"spacing": r(dx, 9), "max_count": 2000000},
+        "particles": {"spacing": dx, "max_count": 2000000},
         "kernel": {"type": "wendland_c2", "h_over_dx": 1.414},
         "fluid": {"rho0": 1000.0, "c0": "auto", "c0_factor": 10},
         "gravity": [0.0, -9.81],

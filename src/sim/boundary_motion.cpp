@@ -54,13 +54,15 @@ void parse_wavemaker(const json& m, const std::string& where, const scene::Scene
   const std::string kind = flap ? "flap" : "piston";
   if (!sc) throw InputError(where + ": a " + kind + " wavemaker needs the scene");
   constexpr int V = D - 1;  // vertical axis
-  // still water: the fluid box bodies' bed and top
+  // still water: the fluid box bodies' bed and the top of the particle rows they hold (a box holds
+  // floor(height / dx) rows, as sim/build_particles.cpp samples it: its water is that deep, not the box)
   double bed = 1e300, top = -1e300;
   double fluid_far = -1e300;  // far end of the water along x
   for (const auto& b : sc->bodies)
     if (b.kind == "fluid" && b.shape == "box" && b.min.size() == std::size_t(D)) {
+      const double rows = std::floor((b.max[V] - b.min[V]) / sc->spacing + 1e-6);
       bed = std::min(bed, b.min[V]);
-      top = std::max(top, b.max[V]);
+      top = std::max(top, b.min[V] + rows * sc->spacing);
       fluid_far = std::max(fluid_far, b.max[0]);
     }
   const bool have_water = top > bed;
