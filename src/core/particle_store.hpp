@@ -51,6 +51,9 @@ class FieldBase {
   virtual void permute(std::span<const std::uint32_t> perm, std::vector<std::byte>& scratch) = 0;
   // Keeps the particles kept[0..m) in that order and shrinks to m: out[k] = in[kept[k]] (particle removal).
   virtual void compact(std::span<const std::uint32_t> kept) = 0;
+  // Appends copies of the particles src[0..k) at the end, in that order (particle creation). Storage grows
+  // by doubling: a run that creates a few particles per step allocates O(log N) times, not every step.
+  virtual void append_copies(std::span<const std::uint32_t> src) = 0;
   std::size_t bytes_per_particle() const { return element_bytes_; }
 
  protected:
@@ -102,6 +105,15 @@ class Field final : public FieldBase {
     // kept is ascending (stable compaction), so kept[k] >= k and the copy can run in place, front to back
     for (std::size_t k = 0; k < kept.size(); ++k) data[k] = data[kept[k]];
     data.resize(kept.size());
+  }
+  void append_copies(std::span<const std::uint32_t> src) override {
+    const std::size_t n = data.size(), m = n + src.size();
+    if (m > data.capacity()) {  // amortised: at least double, pages placed by the loops' threads
+      first_touch_resize(data, std::max(m, 2 * data.capacity()));
+      data.resize(n);
+    }
+    data.resize(m);
+    for (std::size_t k = 0; k < src.size(); ++k) data[n + k] = data[src[k]];
   }
   T& operator[](std::size_t i) { return data[i]; }
   const T& operator[](std::size_t i) const { return data[i]; }
@@ -158,7 +170,8 @@ class ParticleStore {
   void permute(std::span<const std::uint32_t> perm) {
     std::size_t bytes = 0;
     for (auto& f : fields_) bytes = std::max(bytes, f->bytes_per_particle() * size_);
-    first_touch_resize(scratch_, bytes);  // grows once, then reused: no allocation per step
+    // grows by doubling, then reused: no allocation per step, also when particles are created every step
+    if (bytes > scratch_.size()) first_touch_resize(scratch_, std::max(bytes, 2 * scratch_.size()));
     if (in_team()) {  // a step's region (core/team.hpp): the fields' loops are its worksharing loops
       for (auto& f : fields_) f->permute(perm, scratch_);
       return;
@@ -174,6 +187,17 @@ class ParticleStore {
     if (!kept.empty() && kept.back() >= size_) throw std::logic_error("ParticleStore::compact: index out of range");
     for (auto& f : fields_) f->compact(kept);
     size_ = kept.size();
+  }
+  // Creates particles: appends copies of the particles src[0..k) (any order, repeats allowed) at the end
+  // of every registered field and returns the index of the first copy. The caller gives the copies their
+  // own identity (Simulation::create_particles draws new ids from the run's counter) and sorts after.
+  std::size_t append_copies(std::span<const std::uint32_t> src) {
+    for (const std::uint32_t i : src)
+      if (i >= size_) throw std::logic_error("ParticleStore::append_copies: index out of range");
+    const std::size_t first = size_;
+    for (auto& f : fields_) f->append_copies(src);
+    size_ += src.size();
+    return first;
   }
   const std::vector<std::unique_ptr<FieldBase>>& fields() const { return fields_; }
 

@@ -188,6 +188,7 @@ void check_device_scene(const scene::Scene& s) {
   for (std::size_t b = 0; b < s.bodies.size(); ++b)
     if (!s.bodies[b].motion.is_null())
       refuse(s, "bodies." + std::to_string(b) + ".motion", "prescribed boundary motion");
+  if (!s.open_boundaries.empty()) refuse(s, "open_boundaries", "open boundaries (inlets and outlets)");
   for (std::size_t b = 0; b < s.bodies.size(); ++b)
     if (s.bodies[b].kind == "rigid") refuse(s, "bodies." + std::to_string(b) + ".kind", "rigid bodies (\"rigid\")");
 }

@@ -5,6 +5,7 @@
 #include "core/errors.hpp"
 #include "scene/json_reader.hpp"
 #include "scene/parse_health.hpp"
+#include "scene/parse_open.hpp"
 #include "scene/parse_rigid.hpp"
 #include "scene/sanity.hpp"
 #include "scene/scene.hpp"
@@ -162,6 +163,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   }
   if (!any_fluid) r.fail("bodies", "at least one body with \"kind\": \"fluid\"");
   parse_moorings_and_contact(r, s);  // scene/parse_rigid.cpp
+  parse_open_boundaries(r, s);       // scene/parse_open.cpp
 
   // speed of sound: a number, or "auto" = factor x max(sqrt(2 g H), reference speed)
   const double g = std::sqrt([&] { double q = 0; for (double x : s.gravity) q += x * x; return q; }());

@@ -81,6 +81,26 @@ struct HealthSpec {
   double max_energy_growth = 0.1;       // of the energy scale (sim/health.hpp); 0 = off
 };
 
+// An open boundary (top-level `open_boundaries`; sim/open_boundaries.hpp, docs/open_boundaries.md): a box
+// of buffer particles beside the fluid, its interface the box face that `direction` points to. Buffer
+// scheme of Tafuni et al. 2018 (ghost nodes mirrored into the fluid, first-order corrected interpolation).
+struct OpenZoneSpec {
+  std::string name;
+  std::string kind;                 // "inlet" | "outlet"
+  std::vector<double> min, max;     // the zone's box [m]; faces on the fluid's lattice lines
+  std::vector<double> direction;    // unit axis vector from the zone into the fluid (inlets and outlets)
+  int axis = 0;                     // the axis of `direction`
+  double sign = 1;                  // its sign (+1 or -1)
+  // inlet velocity along `direction`: "uniform" (value), "parabolic" (2D, across the zone: peak), "file"
+  std::string profile = "uniform";
+  double speed = 0;                 // uniform: speed; parabolic: peak speed on the zone's centre line [m/s]
+  std::vector<double> series_t, series_u;  // profile "file": times [s] (strictly increasing) and speeds [m/s]
+  bool pressure_extrapolated = true;  // inlet default; outlets default to a prescribed pressure
+  double pressure = 0;              // prescribed pressure [Pa] (when not extrapolated)
+  // The inflow speed at time t (profile "file": linear in time, held beyond the ends) [m/s].
+  double speed_at(double t) const;
+};
+
 struct Scene {
   std::filesystem::path file;
   nlohmann::json resolved;  // every parameter with its value (defaults filled in)
@@ -106,6 +126,7 @@ struct Scene {
   std::vector<double> gravity;
 
   std::vector<BodySpec> bodies;
+  std::vector<OpenZoneSpec> open_boundaries;  // top-level `open_boundaries` (empty: closed domain)
   std::vector<MooringSpec> moorings;  // rigid bodies' moorings (top-level `moorings`)
   ContactSpec contact;                // rigid bodies' contact (top-level `contact`)
   bool has_rigid_bodies() const {

@@ -42,7 +42,8 @@ HealthMonitor<D>::HealthMonitor(const scene::Scene& s)
   for (const auto& b : s.bodies) moving |= !b.motion.is_null() || b.kind == "rigid";
   bool body_force = false;
   for (double f : s.body_force) body_force |= f != 0.0;
-  energy_on_ = spec_.max_energy_growth > 0 && !moving && !body_force;
+  // inlets and outlets carry energy in and out: no closed-system energy bound
+  energy_on_ = spec_.max_energy_growth > 0 && !moving && !body_force && s.open_boundaries.empty();
   window_.assign(std::size_t(spec_.removal_window), 0);
 }
 

@@ -111,7 +111,8 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
   // a checkpoint written after fluid particles were removed (health.*) holds fewer fluid particles than
   // the scene builds; boundary particles are never removed, so their count must match. In a distributed
   // run this process holds rows [first_row, first_row + rows) of the checkpoint; the counts are global.
-  if (const std::int64_t built = sim.global_count(); h.particles > built)
+  // (inlets create particles: a scene with open boundaries may hold more or fewer than it builds)
+  if (const std::int64_t built = sim.global_count(); h.particles > built && sim.scene().open_boundaries.empty())
     throw InputError(where + "checkpoint has " + std::to_string(h.particles) + " particles, the scene builds " +
                      std::to_string(built));
   const std::size_t ckpt_boundary =
@@ -143,6 +144,8 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
   sim.recount_kinds();
   sim.set_clock(h.time, long(h.step));
   restore_rigid_bodies(sim, h.integrator_state, file);  // before the sort places their particles
+  // id counter and flows (in the runner state: in a distributed run their sums agree to round-off only)
+  sim.restore_flow_state(h.runner_state.value("flow", nlohmann::json()));
   // the arrays are in the order of the checkpointed step's cell sort; sorting again is stable, so this
   // rebuilds the neighbour grid for them without changing the order (checked by the restart tests)
   sim.sort_and_bin();
@@ -167,6 +170,7 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
   h.integrator_state = integ.save_state();
   if (const auto* b = sim.rigid_bodies()) h.integrator_state["rigid_bodies"] = b->save_state();
   h.runner_state = runner_state;
+  h.runner_state["flow"] = sim.save_flow_state();
   return h;
 }
 
@@ -192,6 +196,7 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
   step_ = sim.step();
   integrator_state_ = sim.integrator().save_state();
   if (const auto* b = sim.rigid_bodies()) integrator_state_["rigid_bodies"] = b->save_state();
+  integrator_state_["flow"] = sim.save_flow_state();
   runner_state_ = runner_state;
   valid_ = true;
 }
@@ -212,6 +217,7 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
   sim.set_dt(dt_);
   restore_rigid_bodies(sim, integrator_state_, "the last good state");
   sim.integrator().restore_state(integrator_state_);
+  sim.restore_flow_state(integrator_state_.at("flow"));
   if (sim.distributed()) {  // owned rows back in place, ghosts and grid rebuilt for them (collective)
     sim.adopt_rows(owned_, -1);  // with the captured order tags: the serial summation order
     sim.recount_kinds();
@@ -239,6 +245,7 @@ long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
   // stable sort rebuilds its grid without moving them
   sim.set_clock(time_, step_);
   restore_rigid_bodies(sim, integrator_state_, "the last good state");  // before the sort places them
+  sim.restore_flow_state(integrator_state_.at("flow"));
   if (!sim.on_device()) sim.sort_and_bin();
   sim.set_dt(dt_);
   sim.integrator().restore_state(integrator_state_);

@@ -31,6 +31,7 @@
 #include "sim/run_estimate.hpp"
 #include "sim/static_walls.hpp"
 #include "sim/health.hpp"
+#include "sim/open_boundaries.hpp"
 #include "sim/probes.hpp"
 #include "sim/restart.hpp"
 #include "sim/simulation.hpp"
@@ -54,8 +55,13 @@ const std::vector<std::string> kDiagnosticColumns = {
     "fp_iterations_mean", "fp_iterations_max", "fp_residual_max", "fp_contraction_max", "dt_bound",
     // health.* (sim/health.hpp): fluid particles now, and removed since the start per rule
     "fluid_particles", "removed_domain", "removed_density", "removed_speed",
-    // slowest rank's busy time over the mean (1 in one process; docs/parallel.md): appended last
-    "imbalance"};
+    // slowest rank's busy time over the mean (1 in one process; docs/parallel.md)
+    "imbalance",
+    // open boundaries and the mass balance (sim/open_boundaries.hpp; Simulation::flow()), appended last:
+    // particles created at inlets and removed at outlets since the start, buffer particles now, fluid mass
+    // in and out since the start (out: outlets and health removals), fluid mass in the domain now, and
+    // mass_in - mass_out - (fluid_mass - fluid_mass at t = 0), which closes to round-off
+    "particles_created", "removed_outlet", "buffer_particles", "mass_in", "mass_out", "fluid_mass", "mass_balance"};
 
 const std::vector<std::string> kRemovedColumns = {
     "time", "step", "id", "rule", "x", "y", "z", "vx", "vy", "vz", "density", "pressure", "fluid_neighbours",
@@ -604,6 +610,17 @@ class Runner {
     for (const long c : health_.removed()) row.push_back(CsvTable::num(c));
     // slowest rank's busy time over the mean since the previous row (1 in one process; collective)
     row.push_back(CsvTable::num(sim.distributed() ? sim.domain()->imbalance_since_last_report() : 1.0));
+    {
+      const FlowBalance& fl = sim.flow();
+      const double m = sim.fluid_mass();  // collective
+      row.push_back(CsvTable::num(fl.created));
+      row.push_back(CsvTable::num(fl.removed_outlet));
+      row.push_back(CsvTable::num(long(sim.open_boundaries() ? sim.open_boundaries()->buffer_count() : 0)));
+      row.push_back(CsvTable::num(fl.mass_in));
+      row.push_back(CsvTable::num(fl.mass_out()));
+      row.push_back(CsvTable::num(m));
+      row.push_back(CsvTable::num(fl.mass_in - fl.mass_out() - (m - fl.mass0)));
+    }
     on_root([&] { diag_.row(row); });
     fp_steps_ = 0;
     fp_iter_sum_ = 0;

@@ -16,6 +16,7 @@
 #include "integrators/time_step_control.hpp"
 #include "physics/corrections/corrections.hpp"
 #include "sim/build_particles.hpp"
+#include "sim/open_boundaries.hpp"
 #include "sim/step_region.hpp"
 #include "bodies/rigid_bodies.hpp"
 
@@ -121,6 +122,15 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     xsph_ = &store_.add<Vec<D>>("xsph_velocity", {.exported = true, .checkpointed = false});
   n_fluid_ = init.count(0);
   n_boundary_ = init.count(1);
+  next_id_ = std::int64_t(n);
+  if (!scene.open_boundaries.empty()) {  // buffer zones replace the fluid inside them (sim/open_boundaries.hpp)
+    open_ = std::make_unique<OpenBoundaries<D>>(scene_, store_);  // the member: zones point into it
+    open_zone_ = &store_.get<std::int32_t>("open_zone");
+    open_->setup(*this, rates_->support());
+  }
+  // the fluid mass at t = 0 in build order, before a distributed run splits the particles: the same bits in
+  // one process and on every rank
+  flow_.mass0 = fluid_mass();
 
   {
     std::vector<MotionLaw<D>> laws;
@@ -147,6 +157,9 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     if (comm_->size() > 1 && scene.output_static_boundary != "every_frame")  // one static file, not pieces
       throw InputError(scene.file.string() + ": key 'output.static_boundary': \"once\" is written by one process "
                        "only; run it in one process or set \"every_frame\"");
+    if (comm_->size() > 1 && !scene.open_boundaries.empty())  // created particles are not migrated bitwise yet
+      throw InputError(scene.file.string() + ": key 'open_boundaries': inlets and outlets are not available on several "
+                       "MPI ranks yet (docs/open_boundaries.md, Limits); run this scene in one process");
     if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
       // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
       throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
@@ -185,6 +198,7 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     rates_->summation_density(grid_, view, f_.rho.data.data());
   }
   update_pressure();
+  if (open_) open_->initial_values(*this);
   dt_ = scene.dt ? *scene.dt : cfl_dt();
   integrator_->initialize(*this);
   // one parallel region per step (core/team.hpp) for schemes written for it, in one process on the CPU
@@ -290,7 +304,56 @@ void Simulation<D>::recount_kinds() {
 }
 
 template <int D>
+std::size_t Simulation<D>::create_particles(std::span<const std::uint32_t> src) {
+  if (domain_) throw std::logic_error("Simulation::create_particles: not on several ranks");
+  if (store_.size() + src.size() >= std::size_t(UINT32_MAX)) throw NumericalError("too many particles created");
+  const std::size_t first = store_.append_copies(src);
+  for (std::size_t k = 0; k < src.size(); ++k) f_.id[first + k] = next_id_++;
+  return first;
+}
+
+template <int D>
+double Simulation<D>::fluid_mass() const {
+  double m = 0;  // serial, in storage order: the same bits on any thread count
+  const std::int32_t* zone = open_zone_ ? open_zone_->data.data() : nullptr;
+  for (std::size_t i = 0; i < size(); ++i)
+    if (f_.kind[i] == 0 && (!zone || zone[i] < 0)) m += double(f_.mass[i]);
+  return domain_ ? comm_->sum(m) : m;
+}
+
+template <int D>
+nlohmann::json Simulation<D>::save_flow_state() const {
+  return {{"next_id", next_id_},          {"created", flow_.created},
+          {"removed_outlet", flow_.removed_outlet}, {"mass_in", flow_.mass_in},
+          {"mass_out_outlet", flow_.mass_out_outlet}, {"mass_out_health", flow_.mass_out_health},
+          {"mass0", flow_.mass0}};
+}
+
+template <int D>
+void Simulation<D>::restore_flow_state(const nlohmann::json& j) {
+  if (!j.is_object() || !j.contains("next_id")) {  // a checkpoint from before the flows were saved
+    std::int64_t top = -1;
+    for (std::size_t i = 0; i < size(); ++i) top = std::max(top, f_.id[i]);
+    next_id_ = domain_ ? std::int64_t(comm_->max(double(top))) + 1 : top + 1;
+    flow_ = FlowBalance{};
+    flow_.mass0 = fluid_mass();  // the balance counts from the restart
+    return;
+  }
+  next_id_ = j.at("next_id").get<std::int64_t>();
+  flow_.created = j.at("created").get<long>();
+  flow_.removed_outlet = j.at("removed_outlet").get<long>();
+  flow_.mass_in = j.at("mass_in").get<double>();
+  flow_.mass_out_outlet = j.at("mass_out_outlet").get<double>();
+  flow_.mass_out_health = j.at("mass_out_health").get<double>();
+  flow_.mass0 = j.at("mass0").get<double>();
+}
+
+template <int D>
 void Simulation<D>::remove_particles(std::span<const std::uint32_t> indices) {
+  double gone = 0;  // the fluid mass that leaves (the mass balance's health term)
+  for (const std::uint32_t i : indices)
+    if (i < size() && f_.kind[i] == 0 && (!open_zone_ || open_zone_->data[i] < 0)) gone += double(f_.mass[i]);
+  flow_.mass_out_health += domain_ ? comm_->sum(gone) : gone;  // collective like the removal itself
   if (indices.empty() && !domain_) return;
   const std::size_t n = size();  // owned particles (ghosts are rebuilt, never removed)
   kept_.clear();
@@ -468,6 +531,7 @@ const StepReport& Simulation<D>::advance() {
 template <int D>
 const StepReport& Simulation<D>::advance(const std::function<void()>& after_step) {
   if (walls_move()) move_boundaries(time_);  // walls at t_k for the forces of this step
+  if (open_) open_->before_step(*this);  // buffer particles' positions and velocities at t_k
   rates_->set_time(time_);  // gravity ramp, damping window
   if (domain_) domain_->step_begin();
   // Shepard re-initialisation changes the densities after the step: the check then runs after it
@@ -477,9 +541,9 @@ const StepReport& Simulation<D>::advance(const std::function<void()>& after_step
     run_team([&] {  // one fork/join for the whole step (core/team.hpp)
       const StepReport r = integrator_->step(*this);
       team_single([&] { report_ = r; });
-      if (after_step && !reinit) after_step();
+      if (after_step && !reinit && !open_) after_step();
     });
-    checked = !reinit;
+    checked = !reinit && !open_;
   } else {
     report_ = integrator_->step(*this);
   }
@@ -487,6 +551,7 @@ const StepReport& Simulation<D>::advance(const std::function<void()>& after_step
   if (domain_) domain_->step_end(step_);  // load balance: may schedule a repartition for the next sort
   // fixed dt: t = t0 + k dt exactly as two runs with the same dt compute it (frames match by time)
   time_ += dt_;
+  if (open_) open_->after_step(*this);  // buffers imposed, particles created and removed, grid rebuilt
   if (scene_.shepard_reinit_every > 0 && step_ % scene_.shepard_reinit_every == 0) reinitialise_density();
   if (after_step && !checked) after_step();
   return report_;

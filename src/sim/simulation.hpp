@@ -30,6 +30,8 @@ class Domain;
 
 template <int D>
 class Simulation;
+template <int D>
+class OpenBoundaries;
 namespace bodies {
 template <int D>
 class RigidBodies;
@@ -69,6 +71,18 @@ class Integrator {
   // memory, a halving schedule), saved in checkpoints so a restarted run is bitwise identical.
   virtual nlohmann::json save_state() const { return nlohmann::json::object(); }
   virtual void restore_state(const nlohmann::json&) {}
+};
+
+// Particle and mass flows of a run since its start (diagnostics.csv; saved in checkpoints). "Fluid" here
+// is the fluid in the domain: kind 0 particles that are not in an open boundary's buffer.
+struct FlowBalance {
+  long created = 0;               // particles created at inlets
+  long removed_outlet = 0;        // buffer particles removed at outlets
+  double mass_in = 0;             // mass that became fluid (inlet buffer particles crossing the interface) [kg]
+  double mass_out_outlet = 0;     // fluid mass that entered an outlet buffer [kg]
+  double mass_out_health = 0;     // fluid mass removed by the health rules [kg]
+  double mass0 = 0;               // fluid mass at t = 0 [kg]
+  double mass_out() const { return mass_out_outlet + mass_out_health; }
 };
 
 // Creates the integrator a scene names (InputError for names this build does not offer).
@@ -208,6 +222,23 @@ class Simulation {
   void resize_particles(std::size_t n) { store_.resize(n); }
   // Counts of the whole run (owned particles summed over ranks: collective in a distributed run).
   void recount_kinds();
+  // --- particle creation and the mass balance (ARCHITECTURE.md "open boundaries") ------------------
+  // Appends copies of the particles src (every registered field, ParticleStore::append_copies) with new
+  // ids from the run's one counter; returns the index of the first copy. The caller places them, then
+  // recounts and rebins. One process only (open boundaries are refused on several ranks).
+  std::size_t create_particles(std::span<const std::uint32_t> src);
+  std::int64_t next_id() const { return next_id_; }
+  // Inlets and outlets (scene `open_boundaries`); null when the scene has none.
+  OpenBoundaries<D>* open_boundaries() { return open_.get(); }
+  const OpenBoundaries<D>* open_boundaries() const { return open_.get(); }
+  FlowBalance& flow() { return flow_; }
+  const FlowBalance& flow() const { return flow_; }
+  // Mass of the fluid in the domain (kind 0, not in a buffer), summed in storage order and over ranks
+  // (collective in a distributed run).
+  double fluid_mass() const;
+  // The id counter and the flows, for checkpoints and the last-good copy (restores bitwise).
+  nlohmann::json save_flow_state() const;
+  void restore_flow_state(const nlohmann::json& state);
 
  private:
   scene::Scene scene_;
@@ -221,6 +252,10 @@ class Simulation {
   std::unique_ptr<exec::DeviceRun<D>> device_;  // execution.device != "cpu"
   std::unique_ptr<BoundaryMotion<D>> motion_;  // prescribed motion of boundary bodies (inactive if none)
   std::unique_ptr<bodies::RigidBodies<D>> bodies_;  // rigid bodies moved by the fluid (null if none)
+  std::unique_ptr<OpenBoundaries<D>> open_;           // inlets and outlets (null if none)
+  Field<std::int32_t>* open_zone_ = nullptr;          // their buffer tags (-1: not a buffer particle)
+  std::int64_t next_id_ = 0;                          // the next created particle's id
+  FlowBalance flow_;
   bool walls_move() const { return motion_->active() || bodies_ != nullptr; }
   std::vector<Field<Vec<D>>*> position_like_;
   Field<Vec<D>>* wall_v_ = nullptr;  // dummy walls / mDBC: velocity boundary particles show to viscosity

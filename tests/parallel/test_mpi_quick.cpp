@@ -16,7 +16,10 @@ namespace {
 void expect_same_tables(const std::filesystem::path& serial, const std::filesystem::path& run, int ranks) {
   const Csv a = read_csv(serial / "diagnostics.csv"), b = read_csv(run / "diagnostics.csv");
   ASSERT_EQ(a.rows.size(), b.rows.size());
-  ASSERT_EQ(b.header.back(), "imbalance");
+  // imbalance, then the open-boundary and mass-balance columns appended after it (issue 32)
+  ASSERT_GE(b.header.size(), 8u);
+  ASSERT_EQ(b.header[b.header.size() - 8], "imbalance");
+  ASSERT_EQ(b.header.back(), "mass_balance");
   for (std::size_t r = 0; r < a.rows.size(); ++r) {
     for (const char* exact : {"frame", "step", "time", "dt", "max_speed", "density_error_max"})
       EXPECT_EQ(a.value(r, exact), b.value(r, exact)) << exact << ", row " << r;  // maxima of equal states
@@ -127,6 +130,19 @@ TEST(MpiQuick, MdbcWallsAreRefusedOnTwoRanksWithExitTwoAndOneMessage) {
   EXPECT_NE(r.output.find("boundary.model = \"mdbc\" is not available on several MPI ranks"), std::string::npos)
       << r.output;
   EXPECT_EQ(r.output.find("MPI_ABORT"), std::string::npos) << r.output;
+}
+
+// issue 32: created particles are not migrated bitwise yet, so open boundaries are refused on several ranks
+TEST(MpiQuick, OpenBoundariesAreRefusedOnTwoRanksNamingTheKey) {
+  const auto dir = scratch_dir("mpi_quick_open");
+  const auto scene = write_scene(dir, nlohmann::json::parse(test::read_text(source_dir() / "pipelines/open/channel_poiseuille.json")));
+  const auto r = run_varsph(2, scene, dir / "out");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  std::size_t count = 0;
+  for (std::size_t at = 0; (at = r.output.find("varsph: error:", at)) != std::string::npos; ++at) ++count;
+  EXPECT_EQ(count, 1u) << r.output;
+  EXPECT_NE(r.output.find("key 'open_boundaries': inlets and outlets are not available on several MPI ranks"),
+            std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -1,0 +1,160 @@
+#include "scene/parse_open.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace varsph::scene {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+std::string at(const std::string& base, const std::string& key) { return base + "." + key; }
+
+// profile "file": CSV rows "time,speed" (a header line of text is allowed); checked row by row
+void read_series(JsonReader& r, const std::string& key, const std::filesystem::path& file, OpenZoneSpec& z) {
+  std::ifstream in(file);
+  if (!in) r.fail_got(key, "a readable CSV file of rows time,speed (path relative to the scene file)", json(file.string()));
+  std::string line;
+  long row = 0;
+  while (std::getline(in, line)) {
+    ++row;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    for (char& c : line)
+      if (c == ',' || c == ';') c = ' ';
+    std::istringstream ls(line);
+    std::string a, b;
+    ls >> a >> b;
+    char* end = nullptr;
+    const double t = std::strtod(a.c_str(), &end);
+    const bool number_t = !a.empty() && end && *end == '\0';
+    if (!number_t && z.series_t.empty() && row == 1) continue;  // a header line
+    const double u = std::strtod(b.c_str(), &end);
+    const bool number_u = !b.empty() && end && *end == '\0';
+    const std::string where = file.string() + " line " + std::to_string(row);
+    if (!number_t || !number_u) r.fail_got(key, "rows of two numbers time,speed (" + where + ")", json(line));
+    if (!std::isfinite(t) || !std::isfinite(u)) r.fail_got(key, "finite times and speeds (" + where + ")", json(line));
+    if (!z.series_t.empty() && !(t > z.series_t.back()))
+      r.fail_got(key, "strictly increasing times (" + where + ": " + std::to_string(t) + " after " +
+                          std::to_string(z.series_t.back()) + ")", json(line));
+    if (u < 0)
+      r.fail_got(key, "inflow speeds >= 0 along the zone's direction (" + where + ": a negative speed points out of the domain)",
+                 json(line));
+    z.series_t.push_back(t);
+    z.series_u.push_back(u);
+  }
+  if (z.series_t.empty()) r.fail_got(key, "at least one row time,speed", json(file.string()));
+}
+
+OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) {
+  const int d = s.dimension;
+  r.expect_keys(base, {"name", "kind", "min", "max", "direction", "velocity", "pressure"});
+  r.expect_keys(at(base, "velocity"), {"profile", "value", "peak", "file"});
+  OpenZoneSpec z;
+  z.name = r.text(at(base, "name"), std::nullopt);
+  if (z.name.empty() || z.name.find_first_of("/\\ ") != std::string::npos)
+    r.fail_got(at(base, "name"), "a non-empty name without spaces or slashes", json(z.name));
+  z.kind = r.choice(at(base, "kind"), std::nullopt, {"inlet", "outlet"});
+  z.min = r.vector(at(base, "min"), d, std::nullopt, "lower corner of the zone [m]");
+  z.max = r.vector(at(base, "max"), d, std::nullopt, "upper corner of the zone [m]");
+  for (int a = 0; a < d; ++a) {
+    if (!(z.max[a] > z.min[a])) r.fail(at(base, "max"), "max > min on every axis (axis " + std::to_string(a) + " is empty)");
+    const double cells = (z.max[a] - z.min[a]) / s.spacing;
+    if (std::abs(cells - std::round(cells)) > 1e-6)
+      r.fail_got(at(base, "max"), "a box whose extent on every axis is a multiple of particles.spacing (axis " +
+                                      std::to_string(a) + ": " + std::to_string(cells) + " spacings)", json(z.max));
+    if (z.min[a] < s.domain_min[a] - 1e-12 || z.max[a] > s.domain_max[a] + 1e-12)
+      r.fail_got(at(base, "max"), "a zone inside domain.min/max (axis " + std::to_string(a) + ")", json(z.max));
+  }
+  z.direction = r.vector(at(base, "direction"), d, std::nullopt, "unit vector from the zone into the fluid");
+  int nonzero = 0;
+  for (int a = 0; a < d; ++a)
+    if (z.direction[a] != 0) {
+      ++nonzero;
+      z.axis = a;
+    }
+  if (nonzero != 1 || std::abs(z.direction[z.axis]) != 1.0)
+    r.fail_got(at(base, "direction"), "a unit vector along an axis, e.g. [1, 0] (oblique zones are not supported yet)",
+               json(z.direction));
+  z.sign = z.direction[z.axis];
+  if (s.periodic[z.axis])
+    r.fail(at(base, "direction"), "an axis that is not periodic (domain.periodic is true on axis " + std::to_string(z.axis) + ")");
+  // the interface (the face the direction points to) must have fluid beyond it: inside the domain
+  const double face = z.sign > 0 ? z.max[z.axis] : z.min[z.axis];
+  if (!(face > s.domain_min[z.axis] + 0.5 * s.spacing && face < s.domain_max[z.axis] - 0.5 * s.spacing))
+    r.fail_got(at(base, "direction"), "a direction from the zone into the domain (the zone's face at " + std::to_string(face) +
+                                          " on axis " + std::to_string(z.axis) + " has no domain beyond it)",
+               json(z.direction));
+  if (z.kind == "inlet") {
+    z.profile = r.choice(at(base, "velocity.profile"), "uniform", {"uniform", "parabolic", "file"});
+    if (z.profile == "uniform") {
+      z.speed = r.number(at(base, "velocity.value"), std::nullopt, -kInf, kInf, "inflow speed along the direction [m/s]");
+      if (!(z.speed > 0))
+        r.fail_got(at(base, "velocity.value"), "an inflow speed > 0 along the zone's direction (a speed <= 0 points out of the domain)",
+                   json(z.speed));
+    } else if (z.profile == "parabolic") {
+      if (d != 2) r.fail_got(at(base, "velocity.profile"), "\"uniform\" or \"file\" in 3D (\"parabolic\" is the 2D plane profile)",
+                             json(z.profile));
+      z.speed = r.number(at(base, "velocity.peak"), std::nullopt, -kInf, kInf,
+                         "peak speed of u = 4 u_peak s (W - s) / W^2 across the zone [m/s]");
+      if (!(z.speed > 0))
+        r.fail_got(at(base, "velocity.peak"), "a peak speed > 0 along the zone's direction (a speed <= 0 points out of the domain)",
+                   json(z.speed));
+    } else {
+      const std::string f = r.text(at(base, "velocity.file"), std::nullopt);
+      std::filesystem::path p(f);
+      if (p.is_relative()) p = s.file.parent_path() / p;
+      read_series(r, at(base, "velocity.file"), p, z);
+    }
+  }
+  const json* pr = r.raw(at(base, "pressure"));
+  if (pr && pr->is_string()) {
+    r.choice(at(base, "pressure"), std::nullopt, {"extrapolated"});  // or a number [Pa]
+    z.pressure_extrapolated = true;
+  } else if (pr) {
+    z.pressure = r.number(at(base, "pressure"), std::nullopt, -kInf, kInf, "prescribed pressure [Pa]");
+    z.pressure_extrapolated = false;
+  } else if (z.kind == "inlet") {
+    r.text(at(base, "pressure"), "extrapolated");
+    z.pressure_extrapolated = true;
+  } else {
+    z.pressure = r.number(at(base, "pressure"), 0.0, -kInf, kInf, "prescribed pressure [Pa]");
+    z.pressure_extrapolated = false;
+  }
+  return z;
+}
+
+bool boxes_overlap(const OpenZoneSpec& a, const OpenZoneSpec& b, int d) {
+  for (int k = 0; k < d; ++k)
+    if (!(a.min[k] < b.max[k] - 1e-12 && b.min[k] < a.max[k] - 1e-12)) return false;
+  return true;
+}
+
+}  // namespace
+
+double OpenZoneSpec::speed_at(double t) const {
+  if (profile != "file") return speed;
+  if (t <= series_t.front()) return series_u.front();
+  if (t >= series_t.back()) return series_u.back();
+  std::size_t k = 1;
+  while (series_t[k] < t) ++k;
+  const double w = (t - series_t[k - 1]) / (series_t[k] - series_t[k - 1]);
+  return series_u[k - 1] + w * (series_u[k] - series_u[k - 1]);
+}
+
+void parse_open_boundaries(JsonReader& r, Scene& s) {
+  const std::size_t n = r.array_size("open_boundaries");
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::string base = "open_boundaries." + std::to_string(k);
+    s.open_boundaries.push_back(parse_zone(r, base, s));
+    for (std::size_t j = 0; j < k; ++j) {
+      if (s.open_boundaries[j].name == s.open_boundaries[k].name)
+        r.fail_got(at(base, "name"), "a name no other zone has", json(s.open_boundaries[k].name));
+      if (boxes_overlap(s.open_boundaries[j], s.open_boundaries[k], s.dimension))
+        r.fail(at(base, "min"), "a zone that does not overlap zone '" + s.open_boundaries[j].name + "' (open_boundaries." +
+                                    std::to_string(j) + ")");
+    }
+  }
+}
+
+}  // namespace varsph::scene

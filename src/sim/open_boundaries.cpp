@@ -1,0 +1,406 @@
+#include "sim/open_boundaries.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <array>
+#include <utility>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Dense>
+
+#include "core/errors.hpp"
+#include "kernels/kernel_eval.hpp"
+#include "physics/corrected_interpolation.hpp"
+#include "physics/pair_loop.hpp"
+
+namespace varsph {
+
+namespace {
+
+// The first-order corrected interpolation of physics/corrected_interpolation.hpp (Liu & Liu 2006) for the
+// density and the D velocity components at one ghost node at once: one moment matrix, D + 1 right-hand
+// sides, one inverse; the same fallbacks (Shepard where nearly dry or ill conditioned, the same limits).
+template <int D>
+class GhostFit {
+ public:
+  static constexpr int F = D + 1;  // fields: rho, v_0 .. v_{D-1}
+  explicit GhostFit(double support) : inv_s_(1.0 / support) {}
+  void add(const Vec<D>& x_gj, double w, double Fg, double V, double rho, const Vec<D>& v) {
+    Eigen::Matrix<double, D + 1, 1> u, e;
+    u[0] = w;
+    e[0] = 1;
+    for (int a = 0; a < D; ++a) {
+      u[a + 1] = Fg * double(x_gj[a]) / inv_s_;
+      e[a + 1] = -double(x_gj[a]) * inv_s_;
+    }
+    A_.noalias() += (V * u) * e.transpose();
+    Eigen::Matrix<double, 1, F> fj;
+    fj[0] = rho;
+    for (int a = 0; a < D; ++a) fj[1 + a] = double(v[a]);
+    B_.noalias() += (V * u) * fj;
+    ++count_;
+  }
+  // False when no fluid neighbour at all (keep the prescribed or previous values).
+  bool solve() {
+    using CI = physics::CorrectedInterpolation<D>;
+    const double ksum = A_(0, 0);
+    if (count_ == 0 || !(ksum > 0)) return false;
+    sol_.setZero();
+    sol_.row(0) = B_.row(0) / ksum;  // Shepard
+    if (ksum < CI::kSubmerged) return true;
+    const double det = A_.determinant();
+    if (!(std::abs(det) >= CI::kDetMin)) return true;
+    const Eigen::Matrix<double, D + 1, D + 1> inv = A_.inverse();
+    const double cond = A_.cwiseAbs().rowwise().sum().maxCoeff() * inv.cwiseAbs().rowwise().sum().maxCoeff();
+    if (!(cond <= CI::kCondMax)) return true;
+    sol_ = inv * B_;
+    sol_.template bottomRows<D>() *= inv_s_;
+    return true;
+  }
+  double value(int field) const { return sol_(0, field); }
+  Eigen::Matrix<double, D, 1> gradient(int field) const { return sol_.col(field).template tail<D>(); }
+
+ private:
+  double inv_s_;
+  Eigen::Matrix<double, D + 1, D + 1> A_ = Eigen::Matrix<double, D + 1, D + 1>::Zero();
+  Eigen::Matrix<double, D + 1, F> B_ = Eigen::Matrix<double, D + 1, F>::Zero();
+  Eigen::Matrix<double, D + 1, F> sol_ = Eigen::Matrix<double, D + 1, F>::Zero();
+  int count_ = 0;
+};
+
+}  // namespace
+
+template <int D>
+OpenBoundaries<D>::OpenBoundaries(const scene::Scene& s, ParticleStore& store) : scene_(s) {
+  zone_ = &store.add<std::int32_t>("open_zone", {.exported = true});
+  x0_ = &store.add<Vec<D>>("open_x0", {.exported = false, .checkpointed = false});
+  v0_ = &store.add<Vec<D>>("open_v0", {.exported = false, .checkpointed = false});
+  for (auto& z : zone_->data) z = -1;
+  const physics::TaitEos eos(Real(s.rho0), Real(s.c0), Real(s.background_pressure));
+  for (const auto& spec : s.open_boundaries) {
+    Zone z;
+    z.spec = &spec;
+    z.inlet = spec.kind == "inlet";
+    z.axis = spec.axis;
+    z.sign = Real(spec.sign);
+    z.face = Real(spec.sign > 0 ? spec.max[std::size_t(spec.axis)] : spec.min[std::size_t(spec.axis)]);
+    z.depth = Real(spec.max[std::size_t(spec.axis)] - spec.min[std::size_t(spec.axis)]);
+    for (int a = 0; a < D; ++a) {
+      z.lo[a] = Real(spec.min[std::size_t(a)]);
+      z.hi[a] = Real(spec.max[std::size_t(a)]);
+    }
+    z.rho_prescribed = spec.pressure_extrapolated ? Real(s.rho0) : eos.density(Real(spec.pressure));
+    zones_.push_back(z);
+  }
+}
+
+template <int D>
+bool OpenBoundaries<D>::beside(const Zone& z, const Vec<D>& x) const {
+  for (int a = 0; a < D; ++a)
+    if (a != z.axis && (x[a] < z.lo[a] || x[a] > z.hi[a])) return false;
+  return true;
+}
+
+template <int D>
+Vec<D> OpenBoundaries<D>::inflow(const Zone& z, const Vec<D>& x, double t) const {
+  Vec<D> u = Vec<D>::Zero();
+  if (!z.inlet) return u;
+  const auto& spec = *z.spec;
+  double speed = spec.speed_at(t);
+  if (spec.profile == "parabolic") {  // 2D plane Poiseuille profile across the zone: 4 u_peak s (W - s) / W^2
+    const int across = 1 - z.axis;
+    const double W = double(z.hi[across] - z.lo[across]);
+    const double sc = std::clamp(double(x[across] - z.lo[across]), 0.0, W);
+    speed *= 4.0 * sc * (W - sc) / (W * W);
+  }
+  u[z.axis] = Real(double(z.sign) * speed);
+  return u;
+}
+
+template <int D>
+void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
+  const auto& s = scene_;
+  auto& f = sim.fields();
+  auto& store = sim.store();
+  const std::string file = s.file.string();
+  const auto key = [&](std::size_t k, const char* leaf) {
+    return file + ": key 'open_boundaries." + std::to_string(k) + "." + leaf + "' (zone '" + s.open_boundaries[k].name + "'): ";
+  };
+  if (s.integrator != "verlet" && s.integrator != "verlet_dsph" && s.integrator != "symplectic_euler")
+    throw InputError(file + ": key 'integrator.type': \"" + s.integrator + "\" does not run with open boundaries yet "
+                     "(the buffer update is written for \"verlet\", \"verlet_dsph\" and \"symplectic_euler\"; "
+                     "docs/open_boundaries.md)");
+  const double dx = s.spacing;
+  const std::size_t n = store.size();
+  for (std::size_t k = 0; k < zones_.size(); ++k) {
+    const Zone& z = zones_[k];
+    if (double(z.depth) < double(support) * (1 - 1e-9)) {
+      std::ostringstream m;
+      m << key(k, z.sign > 0 ? "min" : "max") << "the zone is " << double(z.depth) << " m deep along its direction, "
+        << "thinner than the kernel support " << double(support) << " m: buffer particles must fill the support "
+        << "of the fluid next to the interface; make it at least " << long(std::ceil(double(support) / dx - 1e-9))
+        << " spacings deep";
+      throw InputError(m.str());
+    }
+    // the interface must face the fluid: fluid particles within a spacing beyond it
+    bool faces_fluid = false;
+    for (std::size_t i = 0; i < n && !faces_fluid; ++i) {
+      if (f.kind[i] != 0 || !beside(z, f.x[i])) continue;
+      const Real d = distance(z, f.x[i]);
+      faces_fluid = d > 0 && d < Real(dx);
+    }
+    if (!faces_fluid)
+      throw InputError(key(k, "direction") + "no fluid lies within a spacing beyond the zone's face at " +
+                       std::to_string(double(z.face)) + " on axis " + std::to_string(z.axis) +
+                       ": the direction must point from the zone into the fluid");
+    // a wall inside the zone: a boundary particle more than a hundredth of a spacing inside the box
+    const Real tol = Real(0.01 * dx);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (f.kind[i] == 0) continue;
+      bool inside = true;
+      for (int a = 0; a < D && inside; ++a) inside = f.x[i][a] > z.lo[a] + tol && f.x[i][a] < z.hi[a] - tol;
+      if (inside) {
+        std::ostringstream m;
+        m << key(k, "min") << "the zone overlaps a wall: boundary particle id " << f.id[i] << " at (";
+        for (int a = 0; a < D; ++a) m << (a ? ", " : "") << double(f.x[i][a]);
+        m << ") of bodies." << f.body[i] << " lies inside it; place the zone in the fluid, between the walls";
+        throw InputError(m.str());
+      }
+    }
+  }
+  // the fluid inside the zones gives way to the zones' lattices (lattice points at (i + 1/2) dx from the
+  // box's lower corner: the fluid's own lattice when the box faces lie on its lattice lines)
+  std::uint32_t fluid_src = UINT32_MAX;
+  for (std::size_t i = 0; i < n && fluid_src == UINT32_MAX; ++i)
+    if (f.kind[i] == 0) fluid_src = std::uint32_t(i);
+  created_src_.clear();
+  created_zone_.clear();
+  std::vector<Vec<D>> pts;
+  for (std::size_t k = 0; k < zones_.size(); ++k) {
+    const Zone& z = zones_[k];
+    std::array<long, D> cells{};
+    long total = 1;
+    for (int a = 0; a < D; ++a) {
+      cells[std::size_t(a)] = std::lround(double(z.hi[a] - z.lo[a]) / dx);
+      total *= cells[std::size_t(a)];
+    }
+    for (long c = 0; c < total; ++c) {
+      long r = c;
+      Vec<D> p;
+      for (int a = 0; a < D; ++a) {
+        const long ia = r % cells[std::size_t(a)];
+        r /= cells[std::size_t(a)];
+        p[a] = Real(double(z.lo[a]) + (double(ia) + 0.5) * dx);
+      }
+      pts.push_back(p);
+      created_src_.push_back(fluid_src);
+      created_zone_.push_back(std::int32_t(k));
+    }
+  }
+  const std::size_t first = sim.create_particles(created_src_);
+  const Real mass = Real(s.rho0 * std::pow(dx, D));
+  for (std::size_t c = 0; c < pts.size(); ++c) {
+    const std::size_t i = first + c;
+    const Zone& z = zones_[std::size_t(created_zone_[c])];
+    f.x[i] = pts[c];
+    f.v[i] = inflow(z, pts[c], 0.0);
+    f.a[i] = Vec<D>::Zero();
+    f.rho[i] = z.rho_prescribed;
+    f.drho[i] = 0;
+    f.mass[i] = mass;
+    f.kind[i] = 0;
+    f.normal[i] = Vec<D>::Zero();
+    f.body[i] = -1;
+    zone_->data[i] = created_zone_[c];
+  }
+  kept_.clear();
+  for (std::size_t i = 0; i < store.size(); ++i) {
+    bool drop = false;
+    if (i < n && f.kind[i] == 0)
+      for (const Zone& z : zones_) {
+        bool inside = true;
+        for (int a = 0; a < D && inside; ++a) inside = f.x[i][a] > z.lo[a] && f.x[i][a] < z.hi[a];
+        drop = drop || inside;
+      }
+    if (!drop) kept_.push_back(std::uint32_t(i));
+  }
+  store.compact(kept_);
+  sim.recount_kinds();
+}
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+}  // namespace
+
+template <int D>
+void OpenBoundaries<D>::before_step(Simulation<D>& sim) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto& f = sim.fields();
+  const std::int32_t* zone = zone_->data.data();
+  const Vec<D>* x = f.x.data.data();
+  const Vec<D>* v = f.v.data.data();
+  Vec<D>* x0 = x0_->data.data();
+  Vec<D>* v0 = v0_->data.data();
+  for_each_particle(sim.size(), [&](std::size_t i) {
+    if (zone[i] < 0) return;
+    x0[i] = x[i];
+    v0[i] = v[i];
+  });
+  impose_seconds_ += seconds_since(t0);
+}
+
+template <int D>
+void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
+  auto& f = sim.fields();
+  auto& flow = sim.flow();
+  const Real dt = Real(sim.dt());
+  auto t0 = std::chrono::steady_clock::now();
+  {  // buffer particles move with their velocity of the step's start (Tafuni 2018 sec. 3.1), not the fluid's forces
+    std::int32_t* zone = zone_->data.data();
+    Vec<D>* x = f.x.data.data();
+    const Vec<D>* x0 = x0_->data.data();
+    const Vec<D>* v0 = v0_->data.data();
+    for_each_particle(sim.size(), [&](std::size_t i) {
+      if (zone[i] >= 0) x[i] = x0[i] + dt * v0[i];
+    });
+  }
+  // transitions, serially in storage order (the same decisions and sums on any thread count)
+  created_src_.clear();
+  created_zone_.clear();
+  removed_.clear();
+  const std::size_t n = sim.size();
+  std::int32_t* zone = zone_->data.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (f.kind[i] != 0) continue;
+    const std::int32_t zi = zone[i];
+    if (zi >= 0) {
+      const Zone& z = zones_[std::size_t(zi)];
+      const Real d = distance(z, f.x[i]);
+      if (d >= 0) {  // crossed the interface into the fluid
+        zone[i] = -1;
+        flow.mass_in += double(f.mass[i]);
+        if (z.inlet) {
+          created_src_.push_back(std::uint32_t(i));
+          created_zone_.push_back(zi);
+        }
+      } else if (d < -z.depth) {  // left the zone through its outer face
+        removed_.push_back(std::uint32_t(i));
+        if (!z.inlet) ++flow.removed_outlet;
+      }
+      continue;
+    }
+    for (std::size_t k = 0; k < zones_.size(); ++k) {
+      const Zone& z = zones_[k];
+      if (z.inlet || !beside(z, f.x[i])) continue;
+      const Real d = distance(z, f.x[i]);
+      if (d >= 0) continue;
+      zone[i] = std::int32_t(k);  // fluid entering an outlet zone becomes a buffer particle
+      flow.mass_out_outlet += double(f.mass[i]);
+      if (d < -z.depth) {  // jumped the whole zone in one step
+        removed_.push_back(std::uint32_t(i));
+        ++flow.removed_outlet;
+      }
+      break;
+    }
+  }
+  const bool changed = !created_src_.empty() || !removed_.empty();
+  if (!created_src_.empty()) {  // a copy one zone depth upstream takes each crossing particle's place
+    const std::size_t first = sim.create_particles(created_src_);
+    const double t = sim.time();
+    for (std::size_t c = 0; c < created_src_.size(); ++c) {
+      const std::size_t i = first + c;
+      const Zone& z = zones_[std::size_t(created_zone_[c])];
+      Vec<D> shift = Vec<D>::Zero();
+      shift[z.axis] = -z.sign * z.depth;
+      f.x[i] += shift;
+      for (auto* pl : sim.position_like()) pl->data[i] += shift;
+      zone_->data[i] = created_zone_[c];
+      f.v[i] = inflow(z, f.x[i], t);
+      f.body[i] = -1;
+    }
+    flow.created += long(created_src_.size());
+  }
+  if (!removed_.empty()) {  // removed_ is ascending (storage order) and below the created copies
+    kept_.clear();
+    std::size_t r = 0;
+    for (std::uint32_t i = 0; i < std::uint32_t(sim.store().size()); ++i) {
+      if (r < removed_.size() && removed_[r] == i) {
+        ++r;
+        continue;
+      }
+      kept_.push_back(i);
+    }
+    sim.store().compact(kept_);
+  }
+  if (changed) {
+    sim.recount_kinds();
+    sim.rebin();  // the sort and the grid for the new set of particles
+  }
+  transition_seconds_ += seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  impose(sim);
+  impose_seconds_ += seconds_since(t0);
+}
+
+template <int D>
+void OpenBoundaries<D>::impose(Simulation<D>& sim) {
+  auto& f = sim.fields();
+  const auto& s = scene_;
+  const std::size_t n = sim.size();
+  buffer_idx_.clear();
+  const std::int32_t* zone = zone_->data.data();
+  for (std::size_t i = 0; i < n; ++i)
+    if (zone[i] >= 0) buffer_idx_.push_back(std::uint32_t(i));
+  buffers_ = buffer_idx_.size();
+  const kernels::AnyKernel<D> W(s.kernel, s.h, s.kernel_l);
+  const Real support = W.support();
+  const auto eos = sim.eos();
+  const double t = sim.time();
+  const auto& grid = sim.grid();
+  const std::uint32_t* idx = buffer_idx_.data();
+  Vec<D>* x = f.x.data.data();
+  Vec<D>* v = f.v.data.data();
+  Real* rho = f.rho.data.data();
+  Real* p = f.p.data.data();
+  const Real* mass = f.mass.data.data();
+  const std::int32_t* kind = f.kind.data.data();
+  // each buffer particle writes its own slots and reads only fluid particles (never written here)
+  for_each_particle(buffer_idx_.size(), [&](std::size_t b) {
+    const std::size_t i = idx[b];
+    const Zone& z = zones_[std::size_t(zone[i])];
+    const bool need_rho = z.spec->pressure_extrapolated;
+    const bool need_v = !z.inlet;
+    Vec<D> vi = z.inlet ? inflow(z, x[i], t) : v[i];
+    Real rhoi = z.rho_prescribed;
+    if (need_rho || need_v) {
+      // ghost node: the buffer particle's mirror image across the interface, inside the fluid
+      Vec<D> xg = x[i];
+      xg[z.axis] = Real(2) * z.face - x[i][z.axis];
+      GhostFit<D> fit{double(support)};
+      grid.for_each_near(xg, f.x.data, support, [&](std::uint32_t j, const Vec<D>& xgj) {
+        if (kind[j] != 0 || zone[j] >= 0) return;
+        const auto k = W(xgj.norm());
+        if (k.w <= 0) return;
+        fit.add(xgj, double(k.w), double(k.grad_factor), double(mass[j]) / double(rho[j]), double(rho[j]), v[j]);
+      });
+      if (fit.solve()) {
+        // density to first order: rho_g + (x - x_g) . grad rho_g (Tafuni 2018 eq. 20)
+        if (need_rho) rhoi = Real(fit.value(0) + fit.gradient(0).dot((x[i] - xg).template cast<double>()));
+        // velocity with zero gradient: the ghost node's value (Tafuni 2018 eq. 21)
+        if (need_v)
+          for (int a = 0; a < D; ++a) vi[a] = Real(fit.value(1 + a));
+      }
+    }
+    v[i] = vi;
+    rho[i] = rhoi;
+    p[i] = eos.pressure(rhoi);
+  });
+}
+
+template class OpenBoundaries<2>;
+template class OpenBoundaries<3>;
+
+}  // namespace varsph

@@ -1,0 +1,91 @@
+#pragma once
+// Open boundaries: inlets and outlets as buffer zones (scene `open_boundaries`, docs/open_boundaries.md).
+//
+// Scheme: the buffer zones of Tafuni, Dominguez, Vacondio & Crespo 2018, "A versatile algorithm for the
+// treatment of open boundary conditions in Smoothed particle hydrodynamics GPU models", Comput. Methods
+// Appl. Mech. Engrg. 342:604-624 (the inlet/outlet of DualSPHysics), chosen because a DualSPHysics user
+// moving a case expects its behaviour, and because its ingredient, first-order corrected interpolation at
+// a ghost node (Liu & Liu 2006), is already varsph's (physics/corrected_interpolation.hpp, mDBC, probes).
+//  - A zone is a box beside the fluid, its interface the face its `direction` (a unit axis vector from
+//    the zone into the fluid) points to; its depth along the direction must cover the kernel support.
+//  - Buffer particles are fluid particles (kind 0) tagged with their zone in the registered field
+//    `open_zone` (-1: not a buffer). They take part in every neighbour sum as fluid, but their state is
+//    imposed after each step: each moves with the velocity it had at the start of the step
+//    (x = x0 + dt v0, Tafuni sec. 3.1), and gets
+//      inlet:  the prescribed velocity u(x, t) along the direction (uniform, 2D parabolic, or a time
+//              series), and the density extrapolated from its ghost node x_g = x - 2 s n (its mirror
+//              image across the interface, s < 0 its signed distance) to first order,
+//              rho = rho_g + (x - x_g) . grad rho_g (Tafuni eq. 20), or the density of a prescribed pressure;
+//      outlet: the velocity of its ghost node (zero gradient, Tafuni eq. 21) and the density of the
+//              prescribed pressure (default 0 Pa), or the extrapolated one.
+//  - Transitions, in storage order after every step: an inlet buffer particle that crossed the interface
+//    (s >= 0) becomes fluid and a copy of it, one zone depth upstream, takes its place in the buffer (the
+//    lattice column is kept); a fluid particle inside an outlet zone becomes an outlet buffer particle;
+//    one that moved back across the interface becomes fluid again; a buffer particle beyond the zone's
+//    outer face (s < -depth) is removed. Creation and removal are store operations (ParticleStore::
+//    append_copies / compact, ids from the run's counter: Simulation::create_particles), followed by
+//    the sort; nothing is allocated per step beyond the store's doubling growth.
+//  - Mass balance (Simulation::flow()): mass enters when a buffer particle becomes fluid, leaves when a
+//    fluid particle becomes a buffer particle or is removed by a health rule.
+// Everything is deterministic and independent of the thread count (per-particle writes, serial
+// transitions). Not available on several MPI ranks nor on the device (refused at start, naming the key).
+#include <cstdint>
+#include <vector>
+
+#include "scene/scene.hpp"
+#include "sim/simulation.hpp"
+
+namespace varsph {
+
+template <int D>
+class OpenBoundaries {
+ public:
+  // Registers the fields `open_zone` (checkpointed, exported), `open_x0` and `open_v0` (scratch).
+  OpenBoundaries(const scene::Scene& s, ParticleStore& store);
+
+  // Before the first sort: validates the zones against the built particles and the kernel support
+  // (InputError naming the zone and key: a zone overlapping a wall, thinner than the support, an integrator
+  // the buffer update is not written for), replaces the fluid inside the zones by their lattices.
+  void setup(Simulation<D>& sim, Real support);
+  // After the first sort: the buffer particles' velocity, density and pressure for t = 0.
+  void initial_values(Simulation<D>& sim) { impose(sim); }
+  // Around each step (Simulation::advance).
+  void before_step(Simulation<D>& sim);
+  void after_step(Simulation<D>& sim);
+
+  std::size_t buffer_count() const { return buffers_; }
+  // Wall time spent here since the start (bench/open): the transitions with creation, removal and the sort
+  // after them, and the buffer update (kinematics, extrapolation). Timings are for benchmarks, never tests.
+  double transition_seconds() const { return transition_seconds_; }
+  double impose_seconds() const { return impose_seconds_; }
+
+ private:
+  struct Zone {
+    const scene::OpenZoneSpec* spec;
+    bool inlet;
+    int axis;
+    Real sign;         // direction = sign e_axis
+    Real face;         // interface coordinate on the axis
+    Real depth;        // extent along the axis [m]
+    Vec<D> lo, hi;     // the box
+    Real rho_prescribed;
+  };
+  // Signed distance from the interface along the direction (< 0 inside the zone's depth).
+  Real distance(const Zone& z, const Vec<D>& x) const { return z.sign * (x[z.axis] - z.face); }
+  bool beside(const Zone& z, const Vec<D>& x) const;  // within the box's extent across the direction
+  Vec<D> inflow(const Zone& z, const Vec<D>& x, double t) const;
+  // Velocity, density and pressure of every buffer particle from the zones' conditions (grid valid).
+  void impose(Simulation<D>& sim);
+
+  const scene::Scene& scene_;
+  std::vector<Zone> zones_;
+  Field<std::int32_t>* zone_;
+  Field<Vec<D>>* x0_;
+  Field<Vec<D>>* v0_;
+  std::vector<std::uint32_t> created_src_, removed_, kept_, buffer_idx_;
+  std::vector<std::int32_t> created_zone_;
+  std::size_t buffers_ = 0;
+  double transition_seconds_ = 0, impose_seconds_ = 0;
+};
+
+}  // namespace varsph

@@ -1,0 +1,255 @@
+// Open boundaries (sim/open_boundaries.hpp) and the store that grows (ParticleStore::append_copies,
+// Simulation::create_particles): ids, amortised growth, the mass balance, threads and restarts bitwise,
+// and the bad input that must stop before a run (exit 2 naming the zone and the key).
+#include <gtest/gtest.h>
+
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "core/errors.hpp"
+#include "exec/device_run.hpp"
+#include "io/checkpoint.hpp"
+#include "scene/scene.hpp"
+#include "sim/open_boundaries.hpp"
+#include "sim/restart.hpp"
+#include "sim/simulation.hpp"
+
+using namespace varsph;
+
+namespace {
+
+// A short coarse channel (dx 0.1, H = 1 m, fluid 0..1 m) with a fast uniform inflow, so that particles
+// cross both interfaces within a few hundred steps: nu = 0.01, u = 1 m/s, c0 = 20 m/s, fixed dt.
+nlohmann::json channel_json() {
+  return nlohmann::json::parse(R"({
+    "name": "open_channel", "dimension": 2,
+    "domain": {"min": [-0.6, -0.6], "max": [1.6, 1.6]},
+    "particles": {"spacing": 0.1},
+    "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},
+    "fluid": {"rho0": 1000.0, "c0": 20.0},
+    "bodies": [
+      {"kind": "fluid", "shape": "box", "min": [0.0, 0.0], "max": [1.0, 1.0]},
+      {"kind": "boundary", "shape": "tank", "min": [-0.3, 0.0], "max": [1.3, 1.0], "layers": 3, "open": [true, true, false, false]}
+    ],
+    "open_boundaries": [
+      {"name": "in", "kind": "inlet", "min": [-0.3, 0.0], "max": [0.0, 1.0], "direction": [1.0, 0.0],
+       "velocity": {"profile": "uniform", "value": 1.0}},
+      {"name": "out", "kind": "outlet", "min": [1.0, 0.0], "max": [1.3, 1.0], "direction": [-1.0, 0.0]}
+    ],
+    "physics": {"density": "continuity", "laminar_viscosity": {"nu": 0.01}},
+    "boundary": {"model": "dummy_adami", "slip": "free_slip"},
+    "integrator": {"type": "verlet", "dt": 0.002},
+    "time": {"end": 1.0}
+  })");
+}
+
+scene::Scene channel(const std::vector<std::string>& sets = {}, nlohmann::json j = channel_json()) {
+  return scene::parse_scene_json(std::move(j), "open_channel.json", sets);
+}
+
+// The InputError message of building the scene (parse and simulation), or "" if none.
+std::string input_error(const std::vector<std::string>& sets, nlohmann::json j = channel_json()) {
+  try {
+    const scene::Scene s = channel(sets, std::move(j));
+    Simulation<2> sim(s);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The state that matters: positions, velocities, densities, pressures, masses, ids, kinds and buffer tags
+// (fields such as wall_velocity are never written on fluid particles and may hold other bits)
+std::vector<std::byte> field_bytes(const Simulation<2>& sim) {
+  std::vector<std::byte> out;
+  for (const auto& f : sim.store().fields()) {
+    static const std::set<std::string> state = {"position", "velocity", "density", "pressure", "mass", "id", "kind",
+                                                "open_zone"};
+    if (!state.count(f->name())) continue;
+    const auto* p = static_cast<const std::byte*>(f->raw());
+    out.insert(out.end(), p, p + f->bytes_per_particle() * sim.size());
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(ParticleStoreGrowth, AppendCopiesEveryFieldAndGrowsByDoubling) {
+  ParticleStore st;
+  auto& x = st.add<Vec<2>>("position");
+  auto& id = st.add<std::int64_t>("id");
+  auto& k = st.add<std::int32_t>("kind");
+  st.resize(3);
+  for (std::size_t i = 0; i < 3; ++i) {
+    x[i] = Vec<2>(Real(i), Real(10 * i));
+    id[i] = std::int64_t(i);
+    k[i] = std::int32_t(i % 2);
+  }
+  const std::uint32_t src[] = {2, 0, 2};
+  EXPECT_EQ(st.append_copies(src), 3u);
+  ASSERT_EQ(st.size(), 6u);
+  for (auto& f : st.fields()) EXPECT_EQ(f->size(), 6u) << f->name();
+  EXPECT_EQ(x[3], x[2]);
+  EXPECT_EQ(x[4], x[0]);
+  EXPECT_EQ(id[5], 2);
+  EXPECT_EQ(k[3], 0);
+  // one particle per "step" for 4000 steps: storage moves O(log n) times, not once per step
+  int moves = 0;
+  const void* last = x.data.data();
+  const std::uint32_t one[] = {1};
+  for (int s = 0; s < 4000; ++s) {
+    st.append_copies(one);
+    if (x.data.data() != last) ++moves;
+    last = x.data.data();
+  }
+  EXPECT_EQ(st.size(), 4006u);
+  EXPECT_LE(moves, 12);
+  EXPECT_THROW(st.append_copies(std::vector<std::uint32_t>{99999}), std::logic_error);
+}
+
+TEST(OpenBoundaries, ZonesReplaceTheFluidWithTheirLattices) {
+  Simulation<2> sim(channel());
+  const auto& zone = sim.store().get<std::int32_t>("open_zone");
+  std::size_t in = 0, out = 0;
+  std::set<std::int64_t> ids;
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    ids.insert(sim.fields().id[i]);
+    if (zone[i] == 0) ++in;
+    if (zone[i] == 1) ++out;
+    if (zone[i] == 0) {
+      EXPECT_EQ(sim.fields().v[i][0], Real(1));  // the prescribed inflow
+    }
+  }
+  EXPECT_EQ(in, 30u);   // 3 x 10 lattice points
+  EXPECT_EQ(out, 30u);
+  EXPECT_EQ(ids.size(), sim.size());  // unique ids
+  EXPECT_EQ(sim.count(0), 100u + 60u);
+  EXPECT_DOUBLE_EQ(sim.fluid_mass(), 100 * 1000.0 * 0.01);
+}
+
+TEST(OpenBoundaries, FlowThroughCreatesAndRemovesWithUniqueIdsAndClosedMassBalance) {
+  Simulation<2> sim(channel());
+  const std::int64_t first_new = sim.next_id();
+  for (int s = 0; s < 250; ++s) sim.advance();  // 0.5 s: every inlet column has fed the fluid
+  const auto& fl = sim.flow();
+  EXPECT_GE(fl.created, 40);  // 10 columns x about 5 crossings at u dt / dx = 0.02 per step
+  EXPECT_GT(fl.removed_outlet, 0);
+  EXPECT_EQ(sim.next_id(), first_new + fl.created);
+  std::set<std::int64_t> ids;
+  for (std::size_t i = 0; i < sim.size(); ++i) ids.insert(sim.fields().id[i]);
+  EXPECT_EQ(ids.size(), sim.size());
+  EXPECT_LT(*ids.rbegin(), sim.next_id());
+  // mass in - mass out - change of the fluid mass: every particle accounted for, to round-off
+  const double m = sim.fluid_mass();
+  const double balance = fl.mass_in - fl.mass_out() - (m - fl.mass0);
+  EXPECT_LE(std::abs(balance), 1e-12 * fl.mass0) << "in " << fl.mass_in << " out " << fl.mass_out() << " mass " << m;
+  EXPECT_GT(fl.mass_in, 0);
+  // the inflow of 1 m/s over H = 1 m for 0.5 s brings about rho0 U H t = 500 kg/m (lattice columns cross
+  // whole: within one column's mass per column)
+  EXPECT_NEAR(fl.mass_in, 500.0, 10 * 10.0);
+  // buffers: every inlet column keeps its 3 lattice particles
+  const auto& zone = sim.store().get<std::int32_t>("open_zone");
+  std::size_t in = 0;
+  for (std::size_t i = 0; i < sim.size(); ++i) in += zone[i] == 0;
+  EXPECT_EQ(in, 30u);
+  EXPECT_TRUE(std::isfinite(m));
+}
+
+TEST(OpenBoundaries, ThreadsGiveTheSameBits) {
+  const int before = omp_get_max_threads();
+  std::vector<std::byte> a, b;
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    Simulation<2> sim(channel());
+    for (int s = 0; s < 120; ++s) sim.advance();
+    (threads == 1 ? a : b) = field_bytes(sim);
+    EXPECT_GT(sim.flow().created, 0);
+  }
+  omp_set_num_threads(before);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_TRUE(a == b);
+}
+
+TEST(OpenBoundaries, RestartFromACheckpointIsBitwise) {
+  const auto dir = std::filesystem::temp_directory_path() / ("varsph_open_restart_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto path = dir / "step.h5";
+  Simulation<2> a(channel());
+  for (int s = 0; s < 80; ++s) a.advance();
+  io::write_checkpoint(path, checkpoint_header(a, nlohmann::json::object()), a.store());
+  for (int s = 0; s < 80; ++s) a.advance();
+  Simulation<2> b(channel());
+  restore_from_checkpoint(b, io::read_checkpoint(path), path.string());
+  for (int s = 0; s < 80; ++s) b.advance();
+  EXPECT_GT(a.flow().created, 0);
+  EXPECT_EQ(a.next_id(), b.next_id());
+  EXPECT_EQ(a.flow().created, b.flow().created);
+  EXPECT_EQ(a.flow().mass_in, b.flow().mass_in);
+  EXPECT_EQ(a.time(), b.time());
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_TRUE(field_bytes(a) == field_bytes(b));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(OpenBoundaries, BadInputStopsBeforeTheRunNamingZoneAndKey) {
+  // inlet overlapping a wall: the zone reaches into the bottom wall
+  std::string e = input_error({"open_boundaries.0.min=[-0.3,-0.2]"});
+  EXPECT_NE(e.find("open_boundaries.0.min"), std::string::npos) << e;
+  EXPECT_NE(e.find("'in'"), std::string::npos) << e;
+  EXPECT_NE(e.find("wall"), std::string::npos) << e;
+  // two zones overlapping
+  e = input_error({"open_boundaries.1.min=[-0.2,0.0]", "open_boundaries.1.max=[0.1,1.0]"});
+  EXPECT_NE(e.find("open_boundaries.1.min"), std::string::npos) << e;
+  EXPECT_NE(e.find("'in'"), std::string::npos) << e;
+  // thinner than the kernel support (Wendland 2h = 0.26 m)
+  e = input_error({"open_boundaries.0.min=[-0.2,0.0]"});
+  EXPECT_NE(e.find("open_boundaries.0.min"), std::string::npos) << e;
+  EXPECT_NE(e.find("kernel support"), std::string::npos) << e;
+  // inflow pointing out of the domain
+  e = input_error({"open_boundaries.0.velocity.value=-1.0"});
+  EXPECT_NE(e.find("open_boundaries.0.velocity.value"), std::string::npos) << e;
+  EXPECT_NE(e.find("out of the domain"), std::string::npos) << e;
+  // a direction with no domain beyond the zone's face
+  e = input_error({"open_boundaries.0.direction=[-1.0,0.0]"});
+  EXPECT_NE(e.find("open_boundaries.0.direction"), std::string::npos) << e;
+  // profile files: NaN, times not increasing
+  const auto dir = std::filesystem::temp_directory_path() / ("varsph_open_bad_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "nan.csv") << "time,velocity\n0,1\n1,nan\n";
+  std::ofstream(dir / "back.csv") << "time,velocity\n0,1\n1,1\n0.5,1\n";
+  for (const char* f : {"nan.csv", "back.csv"}) {
+    e = input_error({"open_boundaries.0.velocity.profile=file", std::string("open_boundaries.0.velocity.file=") + (dir / f).string()});
+    EXPECT_NE(e.find("open_boundaries.0.velocity.file"), std::string::npos) << e;
+    EXPECT_TRUE(e.find("line 3") != std::string::npos || e.find("line 4") != std::string::npos) << e;
+  }
+  std::filesystem::remove_all(dir);
+  // an integrator the buffer update is not written for
+  e = input_error({"integrator.type=rk4"});
+  EXPECT_NE(e.find("integrator.type"), std::string::npos) << e;
+  // the device backend refuses open boundaries by name
+  try {
+    exec::check_device_scene(channel({"execution.device=cuda_emulation"}));
+    ADD_FAILURE() << "the device accepted open boundaries";
+  } catch (const InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("'open_boundaries'"), std::string::npos) << err.what();
+  }
+}
+
+TEST(OpenBoundaries, TimeSeriesInflowIsInterpolatedInTime) {
+  scene::OpenZoneSpec z;
+  z.profile = "file";
+  z.series_t = {0.0, 1.0, 3.0};
+  z.series_u = {0.0, 2.0, 4.0};
+  EXPECT_DOUBLE_EQ(z.speed_at(-1.0), 0.0);
+  EXPECT_DOUBLE_EQ(z.speed_at(0.5), 1.0);
+  EXPECT_DOUBLE_EQ(z.speed_at(2.0), 3.0);
+  EXPECT_DOUBLE_EQ(z.speed_at(9.0), 4.0);
+}
