@@ -245,6 +245,12 @@ void RigidBodies<D>::place(ParticleFields<D>& f, std::size_t n, Field<Vec<D>>* a
 
 template <int D>
 void RigidBodies<D>::reduce_loads(Simulation<D>& sim) {
+  reduce_loads(sim, &sim.rates(), sim.current_view(), true);
+}
+
+template <int D>
+void RigidBodies<D>::reduce_loads(Simulation<D>& sim, const physics::Rates<D>* rates,
+                                  const physics::ParticleView<D>& view, bool contact) {
   auto& f = sim.fields();
   const std::size_t stored = sim.store().size(), n = sim.size();
   team_single([&] {
@@ -254,9 +260,10 @@ void RigidBodies<D>::reduce_loads(Simulation<D>& sim) {
     }
   });
   const physics::BoundaryFilter only{f.body.data.data(), rigid_scene_.data(), std::int32_t(rigid_scene_.size())};
-  const auto view = sim.current_view();
-  sim.rates().boundary_reaction(sim.grid(), view, react_.data(), only);
-  if (contact_.enabled) {
+  const bool fluid = rates != nullptr;
+  if (fluid) rates->boundary_reaction(sim.grid(), view, react_.data(), only);
+  const bool contact_on = contact && contact_.enabled;
+  if (contact_on) {
     ContactPass<D> pass{f.x.data.data(), f.v.data.data(), f.kind.data.data(), f.body.data.data(), only,
                         Real(contact_d_ * contact_d_), Real(contact_d_), Real(contact_k_), Real(contact_gamma_),
                         contact_f_.data()};
@@ -265,7 +272,6 @@ void RigidBodies<D>::reduce_loads(Simulation<D>& sim) {
   // one slot per body particle, in body order: (f, r x f) of the fluid and of contact
   team_single([&] { std::fill(dense_.begin(), dense_.end(), 0.0); });
   double* dense = dense_.data();
-  const bool contact_on = contact_.enabled;
   for_each_particle(n, [&](std::size_t i) {
     const int k = rigid_of(f.body[i]);
     if (k < 0 || f.kind[i] == 0) return;
@@ -273,7 +279,7 @@ void RigidBodies<D>::reduce_loads(Simulation<D>& sim) {
     double* slot = dense + 12 * (b.offset + std::size_t(f.id[i] - b.first_id));
     // the offset from the body's frame, not x_i - x (a periodic axis may have wrapped x_i)
     const Eigen::Vector3d r = rot_[std::size_t(k)] * v3<D>((*local_)[i]);
-    const Eigen::Vector3d ff = v3<D>(react_[i]), tf = r.cross(ff);
+    const Eigen::Vector3d ff = fluid ? v3<D>(react_[i]) : Eigen::Vector3d::Zero(), tf = r.cross(ff);
     const Eigen::Vector3d fc = contact_on ? v3<D>(contact_f_[i]) : Eigen::Vector3d::Zero(), tc = r.cross(fc);
     for (int a = 0; a < 3; ++a) {
       slot[a] = ff[a];
@@ -297,7 +303,7 @@ void RigidBodies<D>::reduce_loads(Simulation<D>& sim) {
       }
       b.loads = l;
     }
-    mooring_loads();
+    if (contact) mooring_loads();
   });
 }
 
@@ -420,6 +426,50 @@ void RigidBodies<D>::evaluate_loads(Simulation<D>& sim) {
 }
 
 template <int D>
+void RigidBodies<D>::midpoint_loads(Simulation<D>& sim, const physics::Rates<D>& rates,
+                                    const physics::ParticleView<D>& view, bool replace) {
+  reduce_loads(sim, &rates, view, false);
+  team_single([&] {
+    r1_force_.resize(bodies_.size());  // once: the body count never changes
+    r1_torque_.resize(bodies_.size());
+    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+      auto& b = bodies_[k];
+      if (replace) {  // a2 rebuilt (first step, dt change, restart): R2 is this reaction
+        b.mid_force = b.loads.fluid_force;
+        b.mid_torque = b.loads.fluid_torque;
+      }
+      r1_force_[k] = b.loads.fluid_force;
+      r1_torque_[k] = b.loads.fluid_torque;
+    }
+  });
+}
+
+template <int D>
+void RigidBodies<D>::advance_variational(Simulation<D>& sim, double dt, double alpha, bool gamma_at_qk) {
+  team_single([&] { started_ = std::chrono::steady_clock::now(); });
+  // contact and moorings at q_k, with the reaction of Gamma_k (eq. 58 at q_k) when the walls are repulsive
+  reduce_loads(sim, gamma_at_qk ? &sim.rates() : nullptr, sim.current_view(), true);
+  const Eigen::Vector3d g = v3<D>(sim.rates().body_acceleration());
+  team_single([&] {
+    const double w1 = 1 - alpha, w2 = alpha;
+    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+      auto& b = bodies_[k];
+      BodyLoads& l = b.loads;
+      // eq. (63) for the bodies: the reaction of (1 - alpha) a1 + alpha a2 (+ Gamma_k)
+      l.fluid_force += w1 * r1_force_[k] + w2 * b.mid_force;
+      l.fluid_torque += w1 * r1_torque_[k] + w2 * b.mid_torque;
+      b.mid_force = r1_force_[k];  // a1 becomes the next step's a2
+      b.mid_torque = r1_torque_[k];
+      const Eigen::Vector3d F = l.fluid_force + l.contact_force + l.mooring_force + b.mp.mass * g;
+      const Eigen::Vector3d T = l.fluid_torque + l.contact_torque + l.mooring_torque;
+      step_body(b, F, T, dt, 1.0);  // V_{k+1/2} = V_{k-1/2} + dt A, X_{k+1} = X_k + dt V_{k+1/2}
+      check_in_domain(b, sim.time() + dt);
+    }
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  });
+}
+
+template <int D>
 void RigidBodies<D>::advance(Simulation<D>& sim, double dt, double drift) {
   team_single([&] { started_ = std::chrono::steady_clock::now(); });
   reduce_loads(sim);
@@ -480,7 +530,7 @@ nlohmann::json RigidBodies<D>::save_state() const {
   nlohmann::json a = nlohmann::json::array();
   for (const auto& b : bodies_)
     a.push_back({{"body", b.scene_index}, {"x", to_json(b.x)}, {"v", to_json(b.v)}, {"w", to_json(b.w)},
-                 {"L", to_json(b.L)}, {"q", {b.q.w(), b.q.x(), b.q.y(), b.q.z()}}, {"acc", to_json(b.acc)},
+                 {"L", to_json(b.L)}, {"q", {b.q.w(), b.q.x(), b.q.y(), b.q.z()}}, {"acc", to_json(b.acc)}, {"mid_force", to_json(b.mid_force)}, {"mid_torque", to_json(b.mid_torque)},
                  {"alpha", to_json(b.alpha)}});
   return a;
 }
@@ -501,6 +551,10 @@ void RigidBodies<D>::restore_state(const nlohmann::json& j) {
     b.q = Eigen::Quaterniond(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(), q.at(3).get<double>());
     b.acc = from_json(e.at("acc"));
     b.alpha = from_json(e.at("alpha"));
+    if (e.contains("mid_force")) {  // checkpoints before the variational coupling have none
+      b.mid_force = from_json(e.at("mid_force"));
+      b.mid_torque = from_json(e.at("mid_torque"));
+    }
   }
 }
 

@@ -23,6 +23,8 @@
 
 #include "bodies/mass_properties.hpp"
 #include "core/particle_store.hpp"
+#include "physics/particle_view.hpp"
+#include "physics/rates.hpp"
 #include "scene/scene.hpp"
 #include "sim/particle_fields.hpp"
 
@@ -57,6 +59,9 @@ struct RigidBody {
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
   Eigen::Vector3d acc = Eigen::Vector3d::Zero(), alpha = Eigen::Vector3d::Zero();  // of the last step
   BodyLoads loads;
+  // variational integrator: the fluid force and torque at the previous step's generalised midpoint (the
+  // bodies' share of its a2, eq. 63); checkpointed with the state
+  Eigen::Vector3d mid_force = Eigen::Vector3d::Zero(), mid_torque = Eigen::Vector3d::Zero();
   double radius = 0;                    // largest distance of its particles from the centre of mass
   Eigen::Vector3d center() const { return pivoted ? pivot : x; }
 };
@@ -92,6 +97,20 @@ class RigidBodies {
   // Loads at the current state without advancing (for outputs at t = 0 and tests).
   void evaluate_loads(Simulation<D>& sim);
 
+  // The variational integrator (docs/bodies.md "Integrators"). The fluid's update is eq. (63),
+  // v_{k+1/2} = v_{k-1/2} + dt [(1 - alpha) a1 + alpha a2 + Gamma_k], with a1 at the new generalised
+  // midpoint, a2 at the previous one and Gamma_k (repulsive walls) at q_k. The bodies take the exact
+  // reaction of each term, so fluid and bodies exchange momentum to round-off:
+  //   midpoint_loads(): the reaction of `rates` at the midpoint `view` into each body's mid_force /
+  //     mid_torque after keeping the previous ones (or replacing them: `replace`, for a rebuilt a2);
+  //   advance_variational(): F = (1 - alpha) R1 + alpha R2 (+ the reaction of Gamma_k at q_k when
+  //     `gamma_at_qk`), contact, moorings and gravity at q_k; V and X as the fluid's v and x (drift 1).
+  // Bodies sit at q_k during the fixed-point iterations like every boundary particle (the map F and its
+  // contraction are those of the fluid alone): they are advanced once per accepted step.
+  void midpoint_loads(Simulation<D>& sim, const physics::Rates<D>& rates, const physics::ParticleView<D>& view,
+                      bool replace);
+  void advance_variational(Simulation<D>& sim, double dt, double alpha, bool gamma_at_qk);
+
   // Total linear and angular momentum (about the origin) of the bodies [kg m/s, kg m^2/s].
   Eigen::Vector3d momentum() const;
   Eigen::Vector3d angular_momentum() const;
@@ -106,6 +125,10 @@ class RigidBodies {
 
  private:
   void reduce_loads(Simulation<D>& sim);
+  // the reaction of `rates` at `view` (fluid part; contact and moorings at the current state when
+  // `contact`) into b.loads, summed in body order
+  void reduce_loads(Simulation<D>& sim, const physics::Rates<D>* rates, const physics::ParticleView<D>& view,
+                    bool contact);
   void step_body(RigidBody& b, const Eigen::Vector3d& F, const Eigen::Vector3d& T, double dt, double drift) const;
   void mooring_loads();
   void check_start(const scene::Scene& s, const ParticleFields<D>& f, std::size_t n);
@@ -119,6 +142,7 @@ class RigidBodies {
   Field<Vec<D>>* local_ = nullptr;            // body-frame offset from the centre of mass at t = 0
   Field<Vec<D>>* local_normal_ = nullptr;     // body-frame normal
   std::vector<Vec<D>> react_, contact_f_;     // per particle (sized once, grown with the store)
+  std::vector<Eigen::Vector3d> r1_force_, r1_torque_;  // per body: the new midpoint's reaction (variational)
   mutable std::vector<Eigen::Matrix3d> rot_;  // per body, refreshed by place()
   std::vector<double> dense_;                 // 12 per body particle: fluid f, r x f, contact f, r x f
   scene::ContactSpec contact_;

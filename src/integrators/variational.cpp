@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "bodies/rigid_bodies.hpp"
 #include "core/errors.hpp"
 #include "core/team.hpp"
 #include "physics/pair_loop.hpp"
@@ -185,6 +186,17 @@ void VariationalIntegrator<D>::eval_midpoint(Simulation<D>& sim, std::span<const
   for_each_particle(n, [&](std::size_t i) { p1[i] = eos.pressure(rho1[i]); });  // eq. (26)-(27), (35)-(36)
   const physics::ParticleView<D> s{mid_->data, v, rho1_->data, p1_->data, f.mass.data, f.kind.data};
   fluid_rates_->acceleration(grid, s, a_out);  // eq. (64)/(65) without Gamma
+  team_single([&] { eval_v_ = v; });
+}
+
+template <int D>
+void VariationalIntegrator<D>::body_midpoint_loads(Simulation<D>& sim, bool replace) {
+  auto* bodies = sim.rigid_bodies();
+  if (!bodies) return;
+  auto& f = sim.fields();
+  // the view of the last eval_midpoint: its positions, velocities, densities and pressures
+  const physics::ParticleView<D> s{mid_->data, eval_v_, rho1_->data, p1_->data, f.mass.data, f.kind.data};
+  bodies->midpoint_loads(sim, *fluid_rates_, s, replace);
 }
 
 template <int D>
@@ -208,6 +220,7 @@ void VariationalIntegrator<D>::rebuild_previous(Simulation<D>& sim, double dt_ol
                            "can cover (dt " + std::to_string(dt_new) + " s too large)");
     });
   eval_midpoint(sim, f.v.data, Real((1 - alpha_) * (dt_old - dt_new)), a2_->data.data());
+  body_midpoint_loads(sim, true);  // the bodies' share of a2
   const Real* rho1 = rho1_->data.data();
   const Real* p1 = p1_->data.data();
   Real* rho = f.rho.data.data();
@@ -355,6 +368,11 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
     if (rep.contraction > 0) last_bound_ = dt / std::sqrt(rep.contraction);  // eq. (54) with M1 ~ c
   });
   rep.dt_bound = last_bound_;
+  // rigid bodies: the reaction of a1 at the accepted iterate, then their step from q_k (eq. 63 for them)
+  if (auto* bodies = sim.rigid_bodies()) {
+    body_midpoint_loads(sim, false);
+    bodies->advance_variational(sim, dt, alpha_, has_wall_);
+  }
   // accept: v_{k+1/2}, q_{k+1}; a1 (at the accepted iterate) becomes the next step's a2
   {
     const Real w1 = Real(1 - alpha_), w2 = Real(alpha_), h = Real(dt);

@@ -91,6 +91,9 @@ class VariationalIntegrator final : public Integrator<D> {
   physics::simd::Isa isa_;  // the vectorised sweep for the wall-force pass (physics/simd/)
   bool explicit_ = false;
   bool has_wall_ = false;
+  std::span<const Vec<D>> eval_v_;  // the velocities of the last midpoint evaluation (rigid bodies' loads)
+  // Rigid bodies: the reaction of the last midpoint evaluation on them (bodies/rigid_bodies.hpp)
+  void body_midpoint_loads(Simulation<D>& sim, bool replace);
   bool summation_ = false;
   int fixed_iterations_ = 0;
   static constexpr int kDivergenceWindow = 3;  // c_j >= 1 this many times in a row: diverging

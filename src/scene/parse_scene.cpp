@@ -314,10 +314,19 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
                                "rk4, verlet_dsph); integrator.type \"" + s.integrator + "\" does not shift particles");
   if (!s.dt && !s.cfl) r.fail("integrator.dt", "integrator.dt [s] or integrator.cfl (one of them is required)");
   if (s.dt && s.cfl) r.fail("integrator.cfl", "only one of integrator.dt and integrator.cfl");
-  if (s.has_rigid_bodies() && s.integrator != "verlet" && s.integrator != "symplectic_euler" && s.integrator != "verlet_dsph")
-    r.fail_got("integrator.type", "\"symplectic_euler\", \"verlet\" or \"verlet_dsph\" with rigid bodies (the bodies "
-                                  "are not advanced inside the other schemes' stages yet; docs/bodies.md)", json(s.integrator));
+  if (s.has_rigid_bodies() && s.integrator != "verlet" && s.integrator != "symplectic_euler" &&
+      s.integrator != "verlet_dsph" && s.integrator != "variational")
+    r.fail_got("integrator.type", "\"symplectic_euler\", \"verlet\", \"verlet_dsph\" or \"variational\" with rigid "
+                                  "bodies (the bodies are not advanced inside the other schemes' stages yet; "
+                                  "docs/bodies.md)", json(s.integrator));
   s.alpha = r.number("integrator.alpha", s.integrator == "variational" ? 0.5 : 1.0, 0, 1, "alpha in [0, 1]");
+  // the variational midpoints evaluate the walls' state only for these two models (docs/variational.md)
+  if (s.has_rigid_bodies() && s.integrator == "variational" && s.alpha < 1 &&
+      s.boundary_model != "repulsive" &&
+      s.boundary_model != "dynamic")
+    r.fail_got("boundary.model", "\"repulsive\" or \"dynamic\" for rigid bodies with integrator.type "
+                                 "\"variational\" (its generalised midpoints do not extrapolate dummy or mDBC wall "
+                                 "pressures; docs/bodies.md)", json(s.boundary_model));
   s.fp_tolerance = r.positive("integrator.fixed_point.tolerance", 1e-6, "tolerance relative to dx");
   if (r.has("integrator.fixed_point.absolute_tolerance"))
     s.fp_absolute_tolerance = r.positive("integrator.fixed_point.absolute_tolerance", std::nullopt, "tolerance [m]");

@@ -338,8 +338,11 @@ TEST(RigidBodies, BadInputIsRefusedNamingTheKey) {
   j["bodies"][2]["mass"] = 3;
   refused(j, "bodies.2.density");  // both given
   j = free_body_scene(2);
-  j["integrator"]["type"] = "variational";
+  j["integrator"]["type"] = "rk4";
   refused(j, "integrator.type");
+  j = free_body_scene(2);
+  j["integrator"]["type"] = "variational";  // with dummy walls: the midpoints do not extrapolate them
+  refused(j, "boundary.model");
   j = free_body_scene(2);
   j["bodies"][2]["constraint"] = {{"type", "hinge"}};
   refused(j, "bodies.2.constraint.point");

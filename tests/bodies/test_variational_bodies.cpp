@@ -1,0 +1,140 @@
+// Rigid bodies under the paper's variational integrator (integrators/variational.cpp, eq. 63): the bodies
+// take the exact reaction of (1 - alpha) a1 + alpha a2 (+ Gamma_k), so fluid and bodies exchange momentum to
+// round-off; a floating box is carried; threads and a restart give the same bits.
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "bodies/rigid_bodies.hpp"
+#include "scene/scene.hpp"
+#include "sim/simulation.hpp"
+#include "test_support.hpp"
+
+using namespace varsph;
+using nlohmann::json;
+
+namespace {
+
+// A fully periodic box of water at rest with a disc and a block on a collision course (an isolated system),
+// under the variational integrator with the given wall model.
+json periodic_variational(const std::string& model, double alpha) {
+  json j = json::parse(R"({
+    "name": "periodic_bodies_variational", "dimension": 2,
+    "domain": {"min": [0, 0], "max": [0.4, 0.3], "periodic": [true, true]}, "particles": {"spacing": 0.01},
+    "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "fluid": {"c0": 15},
+    "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [0.4, 0.3]},
+               {"kind": "rigid", "shape": "sphere", "center": [0.13, 0.15], "radius": 0.04, "density": 3000,
+                "velocity": [1.5, 0.1], "angular_velocity": [5]},
+               {"kind": "rigid", "shape": "box", "min": [0.2, 0.11], "max": [0.28, 0.19], "density": 1500}],
+    "physics": {"artificial_viscosity": {"alpha": 0.1}},
+    "integrator": {"type": "variational", "cfl": 0.2, "fixed_point": {"on_failure": "halve_dt"}},
+    "time": {"end": 1}})");
+  j["boundary"] = {{"model", model}};
+  j["integrator"]["alpha"] = alpha;
+  return j;
+}
+
+Eigen::Vector3d fluid_momentum(const Simulation<2>& sim) {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  const auto& f = sim.fields();
+  for (std::size_t i = 0; i < sim.size(); ++i)
+    if (f.kind[i] == 0) p += Eigen::Vector3d(double(f.mass[i] * f.v[i][0]), double(f.mass[i] * f.v[i][1]), 0);
+  return p;
+}
+
+}  // namespace
+
+// v_{k+1/2} of the fluid and V_{k+1/2} of the bodies change by equal and opposite impulses: the total stays
+// at its initial value to round-off, for the dynamic walls (the reaction of a1 and a2) and the repulsive walls
+// (the reaction of Gamma_k at q_k), at alpha 0.5 and 0.
+TEST(VariationalBodies, FluidAndBodiesKeepTheirTotalMomentumToRoundOff) {
+  for (const auto& [model, alpha] : std::vector<std::pair<std::string, double>>{{"dynamic", 0.5}, {"repulsive", 0.5},
+                                                                                  {"dynamic", 0.0}}) {
+    Simulation<2> sim(scene::parse_scene_json(periodic_variational(model, alpha), "periodic.json"));
+    auto* rb = sim.rigid_bodies();
+    const Eigen::Vector3d P0 = fluid_momentum(sim) + rb->momentum();
+    const double scale = rb->bodies()[0].mp.mass * 1.5;
+    const double v0 = rb->bodies()[0].v.x(), x1 = rb->bodies()[1].x.x();
+    double worst = 0;
+    while (sim.time() < 0.025) {
+      sim.advance();
+      worst = std::max(worst, (fluid_momentum(sim) + rb->momentum() - P0).norm());
+    }
+    std::printf("%s, alpha %.1f: |P - P0| <= %.3g of %.3g kg m/s over %ld steps; disc vx %.4f -> %.4f, block moved %.3g m\n",
+                model.c_str(), alpha, worst, scale, sim.step(), v0, rb->bodies()[0].v.x(), rb->bodies()[1].x.x() - x1);
+    EXPECT_LT(worst, 1e-11 * scale) << model << " alpha " << alpha;
+    EXPECT_LT(rb->bodies()[0].v.x(), 0.995 * v0) << model;  // the fluid slowed the disc: the exchange was real
+  }
+}
+
+TEST(VariationalBodies, TwoThreadsGiveTheBitsOfOne) {
+  auto run = [](int threads) {
+    omp_set_num_threads(threads);
+    Simulation<2> sim(scene::parse_scene_json(periodic_variational("dynamic", 0.5), "periodic.json"));
+    for (int n = 0; n < 30; ++n) sim.advance();
+    omp_set_num_threads(1);
+    std::map<std::int64_t, std::array<double, 4>> by_id;
+    const auto& f = sim.fields();
+    for (std::size_t i = 0; i < sim.size(); ++i)
+      by_id[f.id[i]] = {double(f.x[i][0]), double(f.x[i][1]), double(f.v[i][0]), double(f.v[i][1])};
+    return std::make_pair(sim.rigid_bodies()->save_state().dump(), by_id);
+  };
+  const auto one = run(1), two = run(2);
+  EXPECT_EQ(one.first, two.first);
+  EXPECT_TRUE(one.second == two.second);
+}
+
+TEST(VariationalBodies, ARestartContinuesBitwise) {
+  namespace fs = std::filesystem;
+  const fs::path dir = test::scratch_dir("variational_rigid_restart");
+  json j = periodic_variational("dynamic", 0.5);
+  j["time"]["end"] = 0.01;
+  j["output"] = {{"every", 0.005}, {"probes_every", 0.001}};
+  j["checkpoint"] = {{"every", 0.005}};
+  std::ofstream(dir / "scene.json") << j.dump(1);
+  const std::string exe = test::varsph_exe().string();
+  auto r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "full").string() + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string full = test::read_text(dir / "full" / "bodies.csv");
+  r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "part").string() +
+                        " --quiet --set time.end=0.005");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  fs::path ckpt;
+  for (const auto& e : fs::directory_iterator(dir / "part" / "checkpoints")) ckpt = e.path();
+  r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "part").string() +
+                        " --quiet --restart " + ckpt.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(full, test::read_text(dir / "part" / "bodies.csv"));
+  EXPECT_GT(std::count(full.begin(), full.end(), '\n'), 8);
+}
+
+// The box of pipelines/bodies/floating_box_2d.json at its Archimedes draft with the paper's set-up (repulsive
+// walls, eq. 58), alpha = 0.5: the fluid carries its weight (mean vertical fluid force
+// over 0.25-0.5 s within 5 % of M g; measured 1.1 % repulsive, as `verlet` gives 0.3 % on the same window. Over
+// 0.1-0.25 s, while the box still settles, the variational run reads 19 % low and `verlet` 7.6 %).
+TEST(VariationalBodies, TheFluidCarriesAFloatingBox) {
+  for (const std::string model : {"repulsive"}) {  // dynamic walls: the momentum test above
+    const std::vector<std::string> o = {"particles.spacing=0.02", "time.end=0.5", "bodies.2.min=[0.5, 0.35]",
+                                        "bodies.2.max=[0.7, 0.45]", "boundary.model=\"" + model + "\"",
+                                        "physics.riemann=null", "physics.artificial_viscosity={\"alpha\": 0.1}",
+                                        "integrator={\"type\": \"variational\", \"alpha\": 0.5, \"cfl\": 0.2}"};
+    Simulation<2> sim(scene::parse_scene(test::source_dir() / "pipelines" / "bodies" / "floating_box_2d.json", o));
+    const auto& b = sim.rigid_bodies()->bodies().at(0);
+    double sum = 0, w = 0;
+    while (sim.time() < 0.5) {
+      sim.advance();
+      if (sim.time() > 0.25) {
+        sum += b.loads.fluid_force.y() * sim.dt();
+        w += sim.dt();
+      }
+    }
+    const double weight = b.mp.mass * 9.81;
+    std::printf("variational, %s: mean fluid force %.2f N/m, weight %.2f N/m, centre %.4f m, %ld steps\n",
+                model.c_str(), sum / w, weight, b.x.y(), sim.step());
+    EXPECT_NEAR(sum / w / weight, 1.0, 0.05) << model;
+  }
+}
