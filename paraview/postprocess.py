@@ -19,6 +19,9 @@ Writes (and prints each path):
   body_<N>_motion.png, body_<N>_loads.png, moorings.png
                                   runs with rigid bodies (bodies.csv): plot_bodies.py; --body-reference overlays
                                   a measured motion
+  waves.csv, gauges.png, spectra.png
+                                  wave flumes (a piston or flap wavemaker and water-height gauges; docs/waves.md):
+                                  wave_analysis.py (heights and periods per gauge, gauges against linear theory)
   deviation.csv/.png              with --compare: time,D_max,D_mean,D_rms over the common times (eq. 70)
   scene_diff.txt                  with --compare: the resolved scene keys in which the runs differ
   free_surface_t<T>.png, pressure_t<T>.png, pressure_smoothed_t<T>.png (raw | smoothed), deviation_t<T>.png
@@ -36,6 +39,7 @@ Given a `varsph study` directory (with study.json), it shows every level side by
 Exit status 2 on bad input (a missing run, a malformed reference file), naming the file.
 """
 import argparse
+import json
 import os
 import sys
 
@@ -238,6 +242,26 @@ def snapshots(run, other, post, times, size=(1200, 700)):
         note(pvstate.screenshot(view, os.path.join(post, "deviation_t%s.png" % label(t)), size))
 
 
+def wave_paddle(run):
+    """(depth, H, T) of a run whose scene has a piston or flap wavemaker and water-height gauges, else None."""
+    try:
+        with open(os.path.join(run, "run.json")) as f:
+            sc = json.load(f).get("scene", {})
+    except (OSError, ValueError):
+        return None
+    if not any(p.get("type") == "water_height" for p in sc.get("probes", [])):
+        return None
+    for b in sc.get("bodies", []):
+        m = b.get("motion")
+        if isinstance(m, dict) and m.get("type") in ("piston", "flap"):
+            fluid = [x for x in sc.get("bodies", []) if x.get("kind") == "fluid" and x.get("shape") == "box"]
+            depth = m.get("depth") or (max(x["max"][-1] for x in fluid) - min(x["min"][-1] for x in fluid) if fluid else None)
+            if not depth:
+                return None
+            return depth, m.get("height"), m.get("period")
+    return None
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run", help="run directory (RUN/NAME.pvd, RUN/frames, probes.csv, diagnostics.csv, ...)")
@@ -306,6 +330,13 @@ def main(argv=None):
             return 2
         for path in plot_bodies.figures(a.run, post, ref):
             note(path)
+    waves = wave_paddle(a.run)
+    if waves:  # a wave flume (docs/waves.md): gauge statistics, gauges against linear theory, spectra
+        import wave_analysis
+        h, H, T = waves
+        args = [a.run, "--depth", repr(h)] + (["--theory", "%r:%r" % (H, T)] if H else [])
+        if wave_analysis.main(args) != 0:
+            print("postprocess: the wave analysis of %s failed" % a.run, file=sys.stderr)
     if a.probe_points:
         pts = [floats(p) + [0.0] * (3 - len(floats(p))) for p in a.probe_points.split(";") if p.strip()]
         t, v = probe.probe_series(a.run, pts, frames=loaded)

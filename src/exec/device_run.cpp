@@ -182,12 +182,18 @@ void check_device_scene(const scene::Scene& s) {
   if (s.boundary_model == "mdbc") refuse(s, "boundary.model", "the mDBC wall (English 2022)");
   if (s.xsph_eps > 0) refuse(s, "physics.xsph", "XSPH");
   if (s.damping) refuse(s, "physics.damping", "viscous damping");
+  if (s.damping_zone) refuse(s, "physics.damping_zone", "the damping zone (wave absorption)");
   if (s.tensile != "none") refuse(s, "physics.tensile_instability", "artificial stress");
   if (s.shifting) refuse(s, "physics.shifting", "particle shifting");
   if (s.shepard_reinit_every > 0) refuse(s, "physics.shepard_reinit", "Shepard density re-initialisation");
   for (std::size_t b = 0; b < s.bodies.size(); ++b)
-    if (!s.bodies[b].motion.is_null())
-      refuse(s, "bodies." + std::to_string(b) + ".motion", "prescribed boundary motion");
+    if (!s.bodies[b].motion.is_null()) {
+      const auto& m = s.bodies[b].motion;
+      const std::string type = m.is_object() && m.contains("type") && m["type"].is_string() ? m["type"].get<std::string>() : "";
+      refuse(s, "bodies." + std::to_string(b) + ".motion",
+             type == "piston" || type == "flap" ? "the " + type + " wavemaker (prescribed boundary motion)"
+                                                : "prescribed boundary motion");
+    }
   if (!s.open_boundaries.empty()) refuse(s, "open_boundaries", "open boundaries (inlets and outlets)");
   for (std::size_t b = 0; b < s.bodies.size(); ++b)
     if (s.bodies[b].kind == "rigid") refuse(s, "bodies." + std::to_string(b) + ".kind", "rigid bodies (\"rigid\")");

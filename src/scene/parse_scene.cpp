@@ -108,7 +108,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   JsonReader r(std::move(root), fname);
   r.note_overrides(overrides);
   r.expect_keys("physics", {"density", "artificial_viscosity", "laminar_viscosity", "body_force", "xsph", "damping",
-                            "gravity_ramp", "density_diffusion", "riemann", "tensile_instability", "shepard_reinit",
+                            "damping_zone", "gravity_ramp", "density_diffusion", "riemann", "tensile_instability", "shepard_reinit",
                             "shifting"});
   Scene s;
   s.file = file;
@@ -215,6 +215,17 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
     s.damping = true;
     s.damping_mu = r.number("physics.damping.mu", std::nullopt, 0, kInf, "damping rate mu [1/s]");
     s.damping_until = r.number("physics.damping.until", kInf, 0, kInf, "end of damping [s]");
+  }
+  if (object_key("physics.damping_zone", "an object {from [m], to [m], beta [1/s], profile}")) {
+    // wave absorption at a flume's end (Altomare et al. 2017; physics/damping_zone.hpp)
+    s.damping_zone = true;
+    s.damping_zone_from = r.vector("physics.damping_zone.from", d, std::nullopt, "where the zone starts (no damping) [m]");
+    s.damping_zone_to = r.vector("physics.damping_zone.to", d, std::nullopt, "where the damping is largest [m]");
+    double len2 = 0;
+    for (int a = 0; a < d; ++a) len2 += (s.damping_zone_to[a] - s.damping_zone_from[a]) * (s.damping_zone_to[a] - s.damping_zone_from[a]);
+    if (!(len2 > 0)) r.fail("physics.damping_zone.to", "a point other than physics.damping_zone.from (the zone's length)");
+    s.damping_zone_beta = r.number("physics.damping_zone.beta", 10.0, 0, 1e6, "largest relaxation rate [1/s]");
+    s.damping_zone_profile = r.choice("physics.damping_zone.profile", "quadratic", {"quadratic", "linear"});
   }
   if (object_key("physics.gravity_ramp", "an object {duration [s]}"))
     s.gravity_ramp = r.positive("physics.gravity_ramp.duration", std::nullopt, "ramp duration T [s]");

@@ -150,6 +150,11 @@ struct Scene {
   double xsph_eps = 0;                   // physics.xsph.epsilon [-] (0 = off)
   bool damping = false;
   double damping_mu = 0, damping_until = 0;  // physics.damping.{mu [1/s], until [s]}
+  // physics.damping_zone (physics/damping_zone.hpp): fluid velocity relaxed towards zero beyond `from`
+  bool damping_zone = false;
+  std::vector<double> damping_zone_from, damping_zone_to;  // [m]: no damping at `from`, the most at `to`
+  double damping_zone_beta = 10;                           // [1/s]
+  std::string damping_zone_profile = "quadratic";          // quadratic | linear
   double gravity_ramp = 0;               // physics.gravity_ramp.duration [s] (0 = off)
   std::string density_diffusion = "none";  // physics.density_diffusion.type: none | molteni | fourtakas | antuono
   double diffusion_delta = 0.1;

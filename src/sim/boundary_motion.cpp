@@ -3,11 +3,14 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "core/errors.hpp"
 #include "scene/key_suggest.hpp"
+#include "scene/scene.hpp"
 #include "physics/pair_loop.hpp"
+#include "waves/wave_theory.hpp"
 
 namespace varsph {
 namespace {
@@ -36,18 +39,176 @@ double number_of(const json& j, const std::string& where, const std::string& key
   return j[key].get<double>();
 }
 
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+// Wavemaker laws (docs/waves.md): the paddle signal from wave theory or a file, checked against the
+// breaking limits, the flume's water and the domain before the run starts (exit 2 naming the key).
+template <int D>
+void parse_wavemaker(const json& m, const std::string& where, const scene::Scene* sc, std::size_t body,
+                     MotionLaw<D>& law) {
+  const bool flap = law.type == MotionLaw<D>::Type::Flap;
+  const std::string kind = flap ? "flap" : "piston";
+  if (!sc) throw InputError(where + ": a " + kind + " wavemaker needs the scene");
+  constexpr int V = D - 1;  // vertical axis
+  // still water: the fluid box bodies' bed and the top of the particle rows they hold (a box holds
+  // floor(height / dx) rows, as sim/build_particles.cpp samples it: its water is that deep, not the box)
+  double bed = 1e300, top = -1e300;
+  double fluid_far = -1e300;  // far end of the water along x
+  for (const auto& b : sc->bodies)
+    if (b.kind == "fluid" && b.shape == "box" && b.min.size() == std::size_t(D)) {
+      const double rows = std::floor((b.max[V] - b.min[V]) / sc->spacing + 1e-6);
+      bed = std::min(bed, b.min[V]);
+      top = std::max(top, b.min[V] + rows * sc->spacing);
+      fluid_far = std::max(fluid_far, b.max[0]);
+    }
+  const bool have_water = top > bed;
+  double depth = number_of(m, where, "depth", have_water ? top - bed : 0.0, !have_water);
+  if (!(depth > 0)) throw InputError(where + ".depth: expected a positive still-water depth [m]");
+  if (have_water && std::abs(depth - (top - bed)) > 0.5 * sc->spacing)
+    throw InputError(where + ".depth: " + num(depth) + " m does not match the fluid body's depth " + num(top - bed) +
+                     " m (bed " + num(bed) + ", surface " + num(top) + "; limit: half a spacing, " +
+                     num(0.5 * sc->spacing) + " m)");
+  if (!have_water) bed = 0;
+  double g = 0;
+  for (int a = 0; a < D && a < int(sc->gravity.size()); ++a)
+    if (a != V && sc->gravity[std::size_t(a)] != 0)
+      throw InputError(where + ": a wavemaker needs gravity along -" + std::string(D == 2 ? "y" : "z") + " only");
+  if (int(sc->gravity.size()) > V) g = -sc->gravity[std::size_t(V)];
+  if (!(g > 0)) throw InputError(where + ": a wavemaker needs gravity (along -" + std::string(D == 2 ? "y" : "z") + ")");
+
+  waves::PaddleGeometry geo{.flap = flap, .depth = depth, .hinge_height = 0, .g = g};
+  if (flap) {
+    law.center = vec_of<D>(m, where, "hinge");
+    geo.hinge_height = double(law.center[V]) - bed;
+    if (!(geo.hinge_height < depth))
+      throw InputError(where + ".hinge: the hinge (" + num(geo.hinge_height) + " m above the bed) must lie below the "
+                       "still-water level (" + num(depth) + " m)");
+    law.arm = depth - geo.hinge_height;
+  } else if (m.contains("hinge")) {
+    throw InputError(where + ": unknown key 'hinge' for a piston motion (a flap's key)");
+  }
+
+  const std::string waves_kind = m.contains("waves") ? (m["waves"].is_string() ? m["waves"].get<std::string>() : "?")
+                                                     : "regular";
+  // the breaking limits of a wave of height H and period T (McCowan's H/h, Miche's steepness)
+  auto check_breaking = [&](double H, double T, const std::string& hkey) {
+    const double k = waves::wave_number(2 * std::numbers::pi / T, depth, g), L = 2 * std::numbers::pi / k;
+    if (H / depth > waves::kDepthBreakingLimit)
+      throw InputError(where + "." + hkey + ": H/h = " + num(H / depth) + " breaks at the paddle (limit " +
+                       num(waves::kDepthBreakingLimit) + ", McCowan)");
+    if (H / L > waves::miche_limit(k * depth))
+      throw InputError(where + "." + hkey + ": the steepness H/L = " + num(H / L) + " breaks (Miche limit 0.142 tanh kh = " +
+                       num(waves::miche_limit(k * depth)) + " at kh = " + num(k * depth) + ")");
+  };
+  auto positive = [&](const std::string& key, double def, bool required) {
+    const double v = number_of(m, where, key, def, required);
+    if (!(v > 0)) throw InputError(where + "." + key + ": expected a positive number");
+    return v;
+  };
+  auto spectrum = [&]() {
+    waves::SpectrumSpec s;
+    s.Hs = positive("hs", 0, true);
+    s.Tp = positive("tp", 0, true);
+    s.gamma = number_of(m, where, "gamma", 3.3);
+    if (!(s.gamma >= 1 && s.gamma <= 20)) throw InputError(where + ".gamma: expected a number in [1, 20]");
+    const double nc = number_of(m, where, "components", 256);
+    if (!(nc >= 1 && nc <= 1e5 && nc == std::floor(nc))) throw InputError(where + ".components: expected an integer in [1, 1e5]");
+    s.components = int(nc);
+    s.f_min = number_of(m, where, "f_min", 0.5 / s.Tp);
+    s.f_max = number_of(m, where, "f_max", 3 / s.Tp);
+    if (!(s.f_min > 0 && s.f_max > s.f_min)) throw InputError(where + ".f_max: expected 0 < f_min < f_max [Hz]");
+    const double seed = number_of(m, where, "seed", 1);
+    if (!(seed >= 0 && seed < 9.007e15 && seed == std::floor(seed))) throw InputError(where + ".seed: expected an integer >= 0");
+    s.seed = std::uint64_t(seed);
+    const double m0 = waves::discrete_m0(s), target = s.Hs * s.Hs / 16;
+    if (!(m0 >= 0.5 * target))
+      throw InputError(where + ".f_min: the band " + num(s.f_min) + " .. " + num(s.f_max) + " Hz holds " +
+                       num(100 * m0 / target) + " % of the spectrum's energy (limit: at least 50 %; fp = " +
+                       num(1 / s.Tp) + " Hz)");
+    return s;
+  };
+  double ramp_default = 0;
+  std::vector<waves::Component> comps;
+  waves::PaddleSignal signal;
+  if (waves_kind == "regular") {
+    const double H = positive("height", 0, true), T = positive("period", 0, true);
+    check_breaking(H, T, "height");
+    const double order = number_of(m, where, "order", 1);
+    if (order != 1 && order != 2) throw InputError(where + ".order: expected 1 or 2");
+    if (order == 2 && flap) throw InputError(where + ".order: Madsen's second-order correction is for a piston (order 1 for a flap)");
+    comps = waves::regular_waves(geo, H, T, number_of(m, where, "phase", 0.0), int(order));
+    ramp_default = 2 * T;
+    signal = waves::PaddleSignal::sines(comps);
+  } else if (waves_kind == "irregular") {
+    const auto s = spectrum();
+    check_breaking(s.Hs, s.Tp, "hs");
+    signal = waves::PaddleSignal::sines(waves::irregular_waves(geo, s));
+    ramp_default = 2 * s.Tp;
+  } else if (waves_kind == "focused") {
+    const auto s = spectrum();
+    const double A = positive("crest", 0, true);
+    check_breaking(2 * A, s.Tp, "crest");
+    const double xf = positive("focus_x", 0, true), tf = positive("focus_t", 0, true);
+    signal = waves::PaddleSignal::sines(waves::focused_group(geo, s, A, xf, tf));
+    ramp_default = 0;  // the group's own envelope starts it quietly; a ramp may still be named
+  } else if (waves_kind == "file") {
+    if (!m.contains("file") || !m["file"].is_string()) throw InputError(where + ".file: expected a CSV file name (time, value)");
+    const auto path = sc->file.parent_path() / m["file"].get<std::string>();
+    try {
+      signal = waves::PaddleSignal::read_csv(path.string());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where + ".file: " + e.what());
+    }
+    const std::string column = m.contains("column") && m["column"].is_string() ? m["column"].get<std::string>() : "displacement";
+    if (column != "displacement" && column != "angle")
+      throw InputError(where + ".column: expected \"displacement\" [m] or \"angle\" [rad]");
+    if (column == "angle" && !flap) throw InputError(where + ".column: \"angle\" is a flap's signal");
+    law.paddle_angle = column == "angle";
+    if (law.paddle_angle && !(signal.max_abs() < 1.0))
+      throw InputError(where + ".file: the flap's angle reaches " + num(signal.max_abs()) + " rad (limit 1 rad)");
+  } else {
+    throw InputError(where + ".waves: expected \"regular\", \"irregular\", \"focused\" or \"file\", got " + m["waves"].dump());
+  }
+  const double ramp = number_of(m, where, "ramp", ramp_default);
+  if (!(ramp >= 0)) throw InputError(where + ".ramp: expected a duration >= 0 [s]");
+  signal.set_ramp(ramp);
+  // the paddle's reach: its largest excursion at the still-water level against the domain and the water
+  const double reach = law.paddle_angle ? law.arm * std::tan(signal.max_abs()) : signal.max_abs();
+  const auto& pb = sc->bodies[body];
+  if (pb.min.size() == std::size_t(D) && pb.max.size() == std::size_t(D)) {
+    const double lo = pb.min[0] - reach, hi = pb.max[0] + reach;
+    if (lo < sc->domain_min[0] || hi > sc->domain_max[0])
+      throw InputError(where + ": the paddle's stroke (" + num(2 * reach) + " m, x from " + num(lo) + " to " + num(hi) +
+                       ") leaves the domain [" + num(sc->domain_min[0]) + ", " + num(sc->domain_max[0]) + "]");
+    if (have_water && hi >= fluid_far)
+      throw InputError(where + ": the paddle's stroke (" + num(2 * reach) + " m) reaches x = " + num(hi) +
+                       ", beyond the water's far end " + num(fluid_far));
+  }
+  law.paddle = std::make_shared<const waves::PaddleSignal>(std::move(signal));
+}
+
 }  // namespace
 
 template <int D>
-MotionLaw<D> parse_motion(const json& m, const std::string& where) {
+MotionLaw<D> parse_motion(const json& m, const std::string& where, const scene::Scene* sc, std::size_t body) {
   MotionLaw<D> law;
   if (m.is_null()) return law;
   if (!m.is_object() || !m.contains("type") || !m["type"].is_string())
-    throw InputError(where + ": expected an object with \"type\": \"translation\" | \"rotation\" | \"oscillation\"");
+    throw InputError(where + ": expected an object with \"type\": \"translation\" | \"rotation\" | \"oscillation\" | "
+                     "\"piston\" | \"flap\"");
   const std::string type = m["type"].get<std::string>();
-  const std::vector<std::string> allowed = type == "translation" ? std::vector<std::string>{"type", "velocity", "start", "end"}
-                                           : type == "rotation"  ? std::vector<std::string>{"type", "center", "omega", "start", "end"}
-                                                                 : std::vector<std::string>{"type", "amplitude", "frequency", "phase", "start", "end"};
+  const std::vector<std::string> wavemaker{"type", "waves", "depth", "height", "period", "phase", "order", "hs", "tp",
+                                           "gamma", "components", "f_min", "f_max", "seed", "crest", "focus_x",
+                                           "focus_t", "file", "column", "ramp", "start", "end"};
+  std::vector<std::string> allowed = type == "translation" ? std::vector<std::string>{"type", "velocity", "start", "end"}
+                                     : type == "rotation"  ? std::vector<std::string>{"type", "center", "omega", "start", "end"}
+                                     : type == "piston" || type == "flap" ? wavemaker
+                                                           : std::vector<std::string>{"type", "amplitude", "frequency", "phase", "start", "end"};
+  if (type == "flap") allowed.push_back("hinge");
   for (auto it = m.begin(); it != m.end(); ++it)
     if (std::find(allowed.begin(), allowed.end(), it.key()) == allowed.end()) {
       const auto guess = scene::closest_key(it.key(), allowed);
@@ -74,8 +235,12 @@ MotionLaw<D> parse_motion(const json& m, const std::string& where) {
     law.frequency = number_of(m, where, "frequency", 0, true);
     if (!(law.frequency > 0)) throw InputError(where + ".frequency: expected a positive number [Hz]");
     law.phase = number_of(m, where, "phase", 0.0);
+  } else if (type == "piston" || type == "flap") {
+    law.type = type == "piston" ? MotionLaw<D>::Type::Piston : MotionLaw<D>::Type::Flap;
+    parse_wavemaker<D>(m, where, sc, body, law);
   } else {
-    throw InputError(where + ".type: expected \"translation\", \"rotation\" or \"oscillation\", got \"" + type + "\"");
+    throw InputError(where + ".type: expected \"translation\", \"rotation\", \"oscillation\", \"piston\" or \"flap\", got \"" +
+                     type + "\"");
   }
   return law;
 }
@@ -83,6 +248,7 @@ MotionLaw<D> parse_motion(const json& m, const std::string& where) {
 template <int D>
 BoundaryMotion<D>::BoundaryMotion(std::vector<MotionLaw<D>> laws, ParticleStore& store) : laws_(std::move(laws)) {
   for (const auto& l : laws_) active_ |= l.type != MotionLaw<D>::Type::None;
+  paddle_.resize(laws_.size());
   if (!active_) return;
   x0_ = &store.add<Vec<D>>("reference_position", {.exported = false});
   n0_ = &store.add<Vec<D>>("reference_normal", {.exported = false});
@@ -95,9 +261,30 @@ void BoundaryMotion<D>::capture_reference(const Field<Vec<D>>& x, const Field<Ve
   n0_->data = normal.data;
 }
 
+namespace {
+// the flap's rotation axis: z in 2D (angle -theta), y in 3D (angle +theta): the top moves towards +x
 template <int D>
-void BoundaryMotion<D>::evaluate(const MotionLaw<D>& law, double t, const Vec<D>& x0, Vec<D>& x, Vec<D>& v,
-                                 Eigen::Matrix<Real, D, D>& R) const {
+Eigen::Vector3d flap_axis() {
+  return D == 2 ? Eigen::Vector3d(0, 0, -1) : Eigen::Vector3d(0, 1, 0);
+}
+}  // namespace
+
+template <int D>
+waves::PaddleState BoundaryMotion<D>::paddle_state(const MotionLaw<D>& law, double t) const {
+  const double tau = std::clamp(t, law.start, law.end) - law.start;
+  waves::PaddleState s = law.paddle->at(tau);
+  if (law.type == MotionLaw<D>::Type::Flap && !law.paddle_angle) {
+    // theta = atan(X / a): the flap's top at the still-water level moves by X (a = h - l, its wetted arm)
+    const double a = law.arm, q2 = a * a + s.q * s.q;
+    s = {std::atan2(s.q, a), a * s.dq / q2, a * s.ddq / q2 - 2 * a * s.q * s.dq * s.dq / (q2 * q2)};
+  }
+  if (!(t >= law.start && t <= law.end)) s.dq = s.ddq = 0;
+  return s;
+}
+
+template <int D>
+void BoundaryMotion<D>::evaluate(const MotionLaw<D>& law, const waves::PaddleState& paddle, double t, const Vec<D>& x0,
+                                 Vec<D>& x, Vec<D>& v, Eigen::Matrix<Real, D, D>& R) const {
   using T = typename MotionLaw<D>::Type;
   R.setIdentity();
   const bool moving = t >= law.start && t <= law.end;
@@ -129,11 +316,28 @@ void BoundaryMotion<D>::evaluate(const MotionLaw<D>& law, double t, const Vec<D>
       if (moving) v = Real(w * std::cos(w * tau + law.phase)) * law.amplitude;
       return;
     }
+    case T::Piston:  // x = x0 + X e_x
+      x = x0;
+      x[0] += Real(paddle.q);
+      v[0] = Real(paddle.dq);
+      return;
+    case T::Flap: {  // rotation by theta about the hinge
+      const Eigen::Vector3d e = flap_axis<D>();
+      const Eigen::Matrix3d R3 = Eigen::AngleAxisd(paddle.q, e).toRotationMatrix();
+      R = R3.topLeftCorner<D, D>().template cast<Real>();
+      x = law.center + R * (x0 - law.center);
+      Eigen::Vector3d r = Eigen::Vector3d::Zero();
+      for (int a = 0; a < D; ++a) r[a] = double(x[a] - law.center[a]);
+      const Eigen::Vector3d w = (paddle.dq * e).cross(r);
+      for (int a = 0; a < D; ++a) v[a] = Real(w[a]);
+      return;
+    }
   }
 }
 
 template <int D>
-Vec<D> BoundaryMotion<D>::acceleration(const MotionLaw<D>& law, double t, const Vec<D>& x) const {
+Vec<D> BoundaryMotion<D>::acceleration(const MotionLaw<D>& law, const waves::PaddleState& paddle, double t,
+                                       const Vec<D>& x) const {
   using T = typename MotionLaw<D>::Type;
   if (!(t >= law.start && t <= law.end)) return Vec<D>::Zero();
   switch (law.type) {
@@ -151,6 +355,20 @@ Vec<D> BoundaryMotion<D>::acceleration(const MotionLaw<D>& law, double t, const 
       const double w = 2 * std::numbers::pi * law.frequency;
       return Real(-w * w * std::sin(w * (t - law.start) + law.phase)) * law.amplitude;
     }
+    case T::Piston: {
+      Vec<D> out = Vec<D>::Zero();
+      out[0] = Real(paddle.ddq);
+      return out;
+    }
+    case T::Flap: {  // angular acceleration x r + centripetal
+      Eigen::Vector3d r = Eigen::Vector3d::Zero();
+      for (int a = 0; a < D; ++a) r[a] = double(x[a] - law.center[a]);
+      const Eigen::Vector3d e = flap_axis<D>(), w = paddle.dq * e;
+      const Eigen::Vector3d acc = (paddle.ddq * e).cross(r) + w.cross(w.cross(r));
+      Vec<D> out;
+      for (int a = 0; a < D; ++a) out[a] = Real(acc[a]);
+      return out;
+    }
   }
   return Vec<D>::Zero();
 }
@@ -159,19 +377,23 @@ template <int D>
 void BoundaryMotion<D>::apply(double t, Field<Vec<D>>& x, Field<Vec<D>>& v, Field<Vec<D>>& normal,
                               const Field<std::int32_t>& body, Field<Vec<D>>* acc) const {
   if (!active_) return;
+  // each wavemaker's signal once per call (a spectrum's hundreds of components are not summed per particle)
+  for (std::size_t k = 0; k < laws_.size(); ++k)
+    if (laws_[k].paddle) paddle_[k] = paddle_state(laws_[k], t);
+  const waves::PaddleState* paddle = paddle_.data();
   for_each_particle(x.size(), [&](std::size_t i) {
     const int b = body[i];
     if (b < 0 || std::size_t(b) >= laws_.size() || laws_[b].type == MotionLaw<D>::Type::None) return;
     Eigen::Matrix<Real, D, D> R;
-    evaluate(laws_[b], t, (*x0_)[i], x[i], v[i], R);
+    evaluate(laws_[b], paddle[b], t, (*x0_)[i], x[i], v[i], R);
     normal[i] = R * (*n0_)[i];
-    if (acc) (*acc)[i] = acceleration(laws_[b], t, x[i]);
+    if (acc) (*acc)[i] = acceleration(laws_[b], paddle[b], t, x[i]);
   });
 }
 
 template class BoundaryMotion<2>;
 template class BoundaryMotion<3>;
-template MotionLaw<2> parse_motion<2>(const json&, const std::string&);
-template MotionLaw<3> parse_motion<3>(const json&, const std::string&);
+template MotionLaw<2> parse_motion<2>(const json&, const std::string&, const scene::Scene*, std::size_t);
+template MotionLaw<3> parse_motion<3>(const json&, const std::string&, const scene::Scene*, std::size_t);
 
 }  // namespace varsph

@@ -6,30 +6,48 @@
 //   rotation     x = c + R(omega t) (x0 - c)                   v = omega x (x - c)
 //   oscillation  x = x0 + A [sin(2 pi f t + phi) - sin(phi)]   v = 2 pi f A cos(2 pi f t + phi)
 // and the accelerations a = 0, omega x (omega x (x - c)), -(2 pi f)^2 A sin(2 pi f t + phi).
+// Wavemakers (docs/waves.md), X(t) the paddle signal at the still-water level (waves/paddle_signal.hpp), waves
+// travelling towards +x, vertical axis y (2D) or z (3D):
+//   piston       x = x0 + X e_x                             v = X' e_x            a = X'' e_x
+//   flap         x = c + R(phi) (x0 - c), c the hinge, theta = atan(X / (h - l)) (or the file's angle),
+//                phi = -theta about z (2D) / +theta about y (3D): the top moves towards +x for X > 0;
+//                v = phi' e x r,  a = phi'' e x r + phi' e x (phi' e x r)  (r = x - c)
 // Each law acts for start <= t <= end (before: at rest at x0; after: frozen where it stopped).
+#include <memory>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "core/particle_store.hpp"
 #include "core/real.hpp"
+#include "waves/paddle_signal.hpp"
 
 namespace varsph {
+namespace scene {
+struct Scene;
+}
 
 template <int D>
 struct MotionLaw {
-  enum class Type { None, Translation, Rotation, Oscillation } type = Type::None;
+  enum class Type { None, Translation, Rotation, Oscillation, Piston, Flap } type = Type::None;
   Vec<D> velocity = Vec<D>::Zero();   // translation [m/s]
   Vec<D> center = Vec<D>::Zero();     // rotation centre [m]
   Eigen::Vector3d omega = Eigen::Vector3d::Zero();  // rotation rate [rad/s] (2D: z component)
   Vec<D> amplitude = Vec<D>::Zero();  // oscillation [m]
   double frequency = 0, phase = 0;    // [Hz], [rad]
   double start = 0, end = 1e300;      // [s]
+  // wavemakers: the paddle signal X(t) at the still-water level [m] (or the flap's angle [rad] when
+  // paddle_angle), the flap's hinge (in `center`) and its arm h - l [m]
+  std::shared_ptr<const waves::PaddleSignal> paddle;
+  bool paddle_angle = false;
+  double arm = 0;
 };
 
-// Parses `bodies.N.motion` (InputError naming the key). Returns Type::None when absent.
+// Parses `bodies.N.motion` (InputError naming the key). Returns Type::None when absent. Wavemakers need the
+// scene (the fluid's depth, the domain, gravity, the scene's folder for a paddle file) and the body's index.
 template <int D>
-MotionLaw<D> parse_motion(const nlohmann::json& motion, const std::string& where);
+MotionLaw<D> parse_motion(const nlohmann::json& motion, const std::string& where, const scene::Scene* scene = nullptr,
+                          std::size_t body = 0);
 
 template <int D>
 class BoundaryMotion {
@@ -41,16 +59,22 @@ class BoundaryMotion {
   // to the law at time t.
   void apply(double t, Field<Vec<D>>& x, Field<Vec<D>>& v, Field<Vec<D>>& normal,
              const Field<std::int32_t>& body, Field<Vec<D>>* acc = nullptr) const;
-  // Acceleration of a particle of law k at position x and time t (zero outside [start, end]).
-  Vec<D> acceleration(const MotionLaw<D>& law, double t, const Vec<D>& x) const;
   // Records the current positions/normals as references (after the particles are built).
   void capture_reference(const Field<Vec<D>>& x, const Field<Vec<D>>& normal);
-  // Position, velocity and rotation of law k at time t for a reference point x0.
-  void evaluate(const MotionLaw<D>& law, double t, const Vec<D>& x0, Vec<D>& x, Vec<D>& v,
-                Eigen::Matrix<Real, D, D>& R) const;
+  const std::vector<MotionLaw<D>>& laws() const { return laws_; }
 
  private:
+  // Position, velocity and rotation of a law at time t for a reference point x0; `paddle` is the law's
+  // wavemaker state at t (evaluated once per law and call, not per particle).
+  void evaluate(const MotionLaw<D>& law, const waves::PaddleState& paddle, double t, const Vec<D>& x0, Vec<D>& x,
+                Vec<D>& v, Eigen::Matrix<Real, D, D>& R) const;
+  // Acceleration of a particle of a law at position x and time t (zero outside [start, end]).
+  Vec<D> acceleration(const MotionLaw<D>& law, const waves::PaddleState& paddle, double t, const Vec<D>& x) const;
+  // The paddle's angle state (theta, theta', theta'') of a flap, or its displacement state of a piston.
+  waves::PaddleState paddle_state(const MotionLaw<D>& law, double t) const;
+
   std::vector<MotionLaw<D>> laws_;
+  mutable std::vector<waves::PaddleState> paddle_;  // per law, at the time of the last apply()
   bool active_ = false;
   Field<Vec<D>>* x0_ = nullptr;
   Field<Vec<D>>* n0_ = nullptr;

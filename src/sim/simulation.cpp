@@ -122,6 +122,19 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     xsph_ = &store_.add<Vec<D>>("xsph_velocity", {.exported = true, .checkpointed = false});
   n_fluid_ = init.count(0);
   n_boundary_ = init.count(1);
+  if (scene.damping_zone) {
+    physics::DampingZone<D> z;
+    Vec<D> to;
+    for (int a = 0; a < D; ++a) {
+      z.from[a] = Real(scene.damping_zone_from[std::size_t(a)]);
+      to[a] = Real(scene.damping_zone_to[std::size_t(a)]);
+    }
+    z.length = (to - z.from).norm();
+    z.normal = (to - z.from) / z.length;
+    z.beta = Real(scene.damping_zone_beta);
+    z.quadratic = scene.damping_zone_profile == "quadratic";
+    damping_zone_ = z;
+  }
   next_id_ = std::int64_t(n);
   if (!scene.open_boundaries.empty()) {  // buffer zones replace the fluid inside them (sim/open_boundaries.hpp)
     open_ = std::make_unique<OpenBoundaries<D>>(scene_, store_);  // the member: zones point into it
@@ -135,7 +148,8 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
   {
     std::vector<MotionLaw<D>> laws;
     for (std::size_t b = 0; b < scene.bodies.size(); ++b)
-      laws.push_back(parse_motion<D>(scene.bodies[b].motion, scene.file.string() + ": bodies." + std::to_string(b) + ".motion"));
+      laws.push_back(parse_motion<D>(scene.bodies[b].motion, scene.file.string() + ": bodies." + std::to_string(b) + ".motion",
+                                     &scene, b));
     motion_ = std::make_unique<BoundaryMotion<D>>(std::move(laws), store_);
     motion_->capture_reference(f_.x, f_.normal);
     if (scene.has_rigid_bodies()) bodies_ = std::make_unique<bodies::RigidBodies<D>>(scene, store_, f_, scene.rho0, scene.c0);
@@ -540,12 +554,14 @@ const StepReport& Simulation<D>::advance(const std::function<void()>& after_step
   if (steps_in_one_region()) {
     run_team([&] {  // one fork/join for the whole step (core/team.hpp)
       const StepReport r = integrator_->step(*this);
+      if (damping_zone_) apply_damping_zone(dt_);  // after the step, as DualSPHysics applies it after the corrector
       team_single([&] { report_ = r; });
       if (after_step && !reinit && !open_) after_step();
     });
     checked = !reinit && !open_;
   } else {
     report_ = integrator_->step(*this);
+    if (damping_zone_) apply_damping_zone(dt_);
   }
   ++step_;
   if (domain_) domain_->step_end(step_);  // load balance: may schedule a repartition for the next sort
@@ -555,6 +571,18 @@ const StepReport& Simulation<D>::advance(const std::function<void()>& after_step
   if (scene_.shepard_reinit_every > 0 && step_ % scene_.shepard_reinit_every == 0) reinitialise_density();
   if (after_step && !checked) after_step();
   return report_;
+}
+
+template <int D>
+void Simulation<D>::apply_damping_zone(double dt) {
+  const physics::DampingZone<D> z = *damping_zone_;
+  const Real h = Real(dt);
+  Vec<D>* v = f_.v.data.data();
+  const Vec<D>* x = f_.x.data.data();
+  const std::int32_t* kind = f_.kind.data.data();
+  for_each_particle(size(), [&](std::size_t i) {  // owned particles; each its own slot
+    if (kind[i] == 0) v[i] *= z.factor(x[i], h);
+  });
 }
 
 template <int D>

@@ -17,6 +17,7 @@
 #include "physics/physics_params.hpp"
 #include "physics/rates.hpp"
 #include "scene/scene.hpp"
+#include "physics/damping_zone.hpp"
 #include "sim/boundary_motion.hpp"
 #include "sim/particle_fields.hpp"
 
@@ -262,6 +263,8 @@ class Simulation {
   Field<Real>* wall_distance_ = nullptr;    // mDBC: distance to the fluid-wall interface [m]
   Field<Vec<D>>* wall_acc_ = nullptr;       // extrapolated walls with prescribed motion: a_w [m/s^2]
   Field<Vec<D>>* xsph_ = nullptr;    // XSPH correction
+  std::optional<physics::DampingZone<D>> damping_zone_;  // physics.damping_zone: absorbs waves (only when named)
+  void apply_damping_zone(double dt);
   std::vector<std::uint32_t> perm_;
   std::vector<std::uint32_t> kept_;  // particle removal: indices of the survivors
   std::vector<Real> rho_scratch_;  // Shepard re-initialisation output (sized once)
