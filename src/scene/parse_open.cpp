@@ -49,7 +49,7 @@ void read_series(JsonReader& r, const std::string& key, const std::filesystem::p
 OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) {
   const int d = s.dimension;
   r.expect_keys(base, {"name", "kind", "min", "max", "direction", "velocity", "pressure"});
-  r.expect_keys(at(base, "velocity"), {"profile", "value", "peak", "file"});
+  r.expect_keys(at(base, "velocity"), {"profile", "value", "peak", "file", "ramp"});
   OpenZoneSpec z;
   z.name = r.text(at(base, "name"), std::nullopt);
   if (z.name.empty() || z.name.find_first_of("/\\ ") != std::string::npos)
@@ -106,6 +106,9 @@ OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) 
       if (p.is_relative()) p = s.file.parent_path() / p;
       read_series(r, at(base, "velocity.file"), p, z);
     }
+    // a smooth start: an inflow switched on at once sends a pressure wave of rho c0 u through the domain
+    // (the water hammer), which an inlet (fixed velocity) and an outlet (fixed pressure) trap and ring
+    z.ramp = r.number(at(base, "velocity.ramp"), 0.0, 0, kInf, "time over which the inflow rises from 0 [s]");
   }
   const json* pr = r.raw(at(base, "pressure"));
   if (pr && pr->is_string()) {
@@ -133,13 +136,19 @@ bool boxes_overlap(const OpenZoneSpec& a, const OpenZoneSpec& b, int d) {
 }  // namespace
 
 double OpenZoneSpec::speed_at(double t) const {
-  if (profile != "file") return speed;
-  if (t <= series_t.front()) return series_u.front();
-  if (t >= series_t.back()) return series_u.back();
-  std::size_t k = 1;
-  while (series_t[k] < t) ++k;
-  const double w = (t - series_t[k - 1]) / (series_t[k] - series_t[k - 1]);
-  return series_u[k - 1] + w * (series_u[k] - series_u[k - 1]);
+  double u = speed;
+  if (profile == "file") {
+    if (t <= series_t.front()) u = series_u.front();
+    else if (t >= series_t.back()) u = series_u.back();
+    else {
+      std::size_t k = 1;
+      while (series_t[k] < t) ++k;
+      const double w = (t - series_t[k - 1]) / (series_t[k] - series_t[k - 1]);
+      u = series_u[k - 1] + w * (series_u[k] - series_u[k - 1]);
+    }
+  }
+  if (ramp > 0 && t < ramp) u *= t <= 0 ? 0.0 : 0.5 * (1 - std::cos(3.14159265358979323846 * t / ramp));
+  return u;
 }
 
 void parse_open_boundaries(JsonReader& r, Scene& s) {

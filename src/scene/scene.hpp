@@ -95,9 +95,10 @@ struct OpenZoneSpec {
   std::string profile = "uniform";
   double speed = 0;                 // uniform: speed; parabolic: peak speed on the zone's centre line [m/s]
   std::vector<double> series_t, series_u;  // profile "file": times [s] (strictly increasing) and speeds [m/s]
+  double ramp = 0;                  // velocity.ramp: the inflow rises as (1 - cos(pi t / ramp)) / 2 over this [s]
   bool pressure_extrapolated = true;  // inlet default; outlets default to a prescribed pressure
   double pressure = 0;              // prescribed pressure [Pa] (when not extrapolated)
-  // The inflow speed at time t (profile "file": linear in time, held beyond the ends) [m/s].
+  // The inflow speed at time t (profile "file": linear in time, held beyond the ends), times the ramp [m/s].
   double speed_at(double t) const;
 };
 

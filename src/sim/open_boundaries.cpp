@@ -294,9 +294,15 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
     }
     for (std::size_t k = 0; k < zones_.size(); ++k) {
       const Zone& z = zones_[k];
-      if (z.inlet || !beside(z, f.x[i])) continue;
+      if (!beside(z, f.x[i])) continue;
       const Real d = distance(z, f.x[i]);
       if (d >= 0) continue;
+      if (z.inlet) {  // backflow into an inlet (near its walls, where the inflow vanishes): leaves the domain
+        removed_.push_back(std::uint32_t(i));
+        flow.mass_out_outlet += double(f.mass[i]);
+        ++flow.removed_outlet;
+        break;
+      }
       zone[i] = std::int32_t(k);  // fluid entering an outlet zone becomes a buffer particle
       flow.mass_out_outlet += double(f.mass[i]);
       if (d < -z.depth) {  // jumped the whole zone in one step

@@ -22,7 +22,8 @@
 //    (s >= 0) becomes fluid and a copy of it, one zone depth upstream, takes its place in the buffer (the
 //    lattice column is kept); a fluid particle inside an outlet zone becomes an outlet buffer particle;
 //    one that moved back across the interface becomes fluid again; a buffer particle beyond the zone's
-//    outer face (s < -depth) is removed. Creation and removal are store operations (ParticleStore::
+//    outer face (s < -depth) is removed; a fluid particle that flows back into an inlet zone (near its
+//    walls, where the inflow vanishes) is removed and counted as outflow. Creation and removal are store operations (ParticleStore::
 //    append_copies / compact, ids from the run's counter: Simulation::create_particles), followed by
 //    the sort; nothing is allocated per step beyond the store's doubling growth.
 //  - Mass balance (Simulation::flow()): mass enters when a buffer particle becomes fluid, leaves when a

@@ -252,4 +252,13 @@ TEST(OpenBoundaries, TimeSeriesInflowIsInterpolatedInTime) {
   EXPECT_DOUBLE_EQ(z.speed_at(0.5), 1.0);
   EXPECT_DOUBLE_EQ(z.speed_at(2.0), 3.0);
   EXPECT_DOUBLE_EQ(z.speed_at(9.0), 4.0);
+  // velocity.ramp: (1 - cos(pi t / T)) / 2 times the speed until T
+  scene::OpenZoneSpec u;
+  u.speed = 2.0;
+  u.ramp = 1.0;
+  EXPECT_DOUBLE_EQ(u.speed_at(0.0), 0.0);
+  EXPECT_NEAR(u.speed_at(0.5), 1.0, 1e-15);
+  EXPECT_NEAR(u.speed_at(0.25), 2.0 * 0.5 * (1 - std::sqrt(0.5)), 1e-15);
+  EXPECT_DOUBLE_EQ(u.speed_at(1.0), 2.0);
+  EXPECT_DOUBLE_EQ(u.speed_at(3.0), 2.0);
 }
