@@ -118,21 +118,14 @@ double rigid_signed_distance(const scene::BodySpec& b, const Vec<D>& p) {
   return std::numeric_limits<double>::infinity();
 }
 
-// Signed distance of p to the interface of a fixed solid block or ball (`"kind": "boundary"`, shape box or
-// sphere; negative inside). A block's interface is its box; a ball's sits half a spacing beyond its
-// outermost lattice points, at radius + dx/2 (the normals of both point to it). +inf for other shapes.
-template <int D>
-double boundary_solid_signed_distance(const scene::BodySpec& b, const Vec<D>& p, double dx) {
-  if (b.shape == "box") return rigid_signed_distance<D>(b, p);
-  if (b.shape == "sphere") return double((p - to_vec<D>(b.center)).norm()) - (b.radius + 0.5 * dx);
-  return std::numeric_limits<double>::infinity();
-}
-
 // Removes fluid particles inside solids: a rigid box, sphere or cylinder (rigid_lattice_points gave the
 // body the lattice points inside it: together they fill the lattice), and a fixed block or ball of
-// boundary particles placed in the water. The block is sampled only `layers` deep and the ball on a
-// lattice of its own, half a spacing off the fluid's, so the min_boundary_distance rule alone left the
-// fluid inside them (a 0.2 m block at dx 0.005 held 1296 particles in its hollow; a disc all 317).
+// boundary particles placed in the water (inside its box; within its radius, where its particles are). The
+// block is sampled only `layers` deep and the ball on a lattice of its own, up to half a spacing off the
+// fluid's, so the min_boundary_distance rule alone left the fluid inside them (a 0.2 m block at dx 0.005
+// held 1296 particles in its hollow; a disc all 317). Fluid between the ball's radius and its interface
+// (radius + dx/2) stays unless it is within the clearance of a ball particle: on the same lattice it is a
+// spacing away from them, and removing it would open a gap.
 template <int D>
 std::size_t remove_fluid_inside_solids(const scene::Scene& s, InitialParticles<D>& p) {
   std::vector<const scene::BodySpec*> rigid, fixed;
@@ -145,7 +138,7 @@ std::size_t remove_fluid_inside_solids(const scene::Scene& s, InitialParticles<D
   for (std::size_t i = 0; i < p.x.size(); ++i)
     if (p.kind[i] == 0) {
       for (const auto* b : rigid) drop[i] = drop[i] || rigid_signed_distance<D>(*b, p.x[i]) < 0;
-      for (const auto* b : fixed) drop[i] = drop[i] || boundary_solid_signed_distance<D>(*b, p.x[i], s.spacing) < 0;
+      for (const auto* b : fixed) drop[i] = drop[i] || rigid_signed_distance<D>(*b, p.x[i]) < 0;
     }
   return drop_particles(p, drop);
 }

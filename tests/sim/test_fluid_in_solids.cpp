@@ -55,16 +55,36 @@ TEST(FluidInSolids, ABoundaryBlockInTheWaterHoldsNoFluid) {
 }
 
 TEST(FluidInSolids, ABoundaryBallOffTheFluidLatticeHoldsNoFluid) {
-  // a disc R = 0.05 centred off the fluid's lattice: its surface sits at R + dx/2 (half a spacing beyond its
-  // outermost particles); the fluid inside that circle goes, the fluid outside stays
+  // a disc R = 0.05 on a lattice of its own (a particle at its centre c, off the fluid's lattice): the fluid
+  // within R goes, and the fluid outside it closer than min_boundary_distance (0.5 dx) to a disc particle
   const double cx = 0.503, cy = 0.651, R = 0.05, dx = 0.01;
-  long inside = 0;
+  long removed = 0, within_r = 0;
   for (int i = 0; i < 100; ++i)
-    for (int j = 0; j < 80; ++j)
-      inside += std::hypot((i + 0.5) * dx - cx, (j + 0.5) * dx - cy) < R + 0.5 * dx;
-  ASSERT_GT(inside, 90);  // about pi (R + dx/2)^2 / dx^2 = 95
+    for (int j = 0; j < 80; ++j) {
+      const double x = (i + 0.5) * dx, y = (j + 0.5) * dx;
+      bool near = std::hypot(x - cx, y - cy) < R;
+      within_r += near;
+      for (int a = -6; a <= 6 && !near; ++a)
+        for (int b = -6; b <= 6 && !near; ++b)
+          near = std::hypot(a * dx, b * dx) <= R + 1e-9 * dx && std::hypot(x - cx - a * dx, y - cy - b * dx) < 0.5 * dx;
+      removed += near;
+    }
+  ASSERT_GT(within_r, 70);  // about pi R^2 / dx^2 = 79; the clearance rule alone removed none of them
   std::string out;
   const long n = sampled_fluid("solid_ball", scene_with({{"kind", "boundary"}, {"shape", "sphere"},
                                                         {"center", {cx, cy}}, {"radius", R}}), &out);
-  EXPECT_EQ(n, 8000 - inside) << out;
+  EXPECT_EQ(n, 8000 - removed) << out;
+}
+
+TEST(FluidInSolids, ABoundaryBallOnTheFluidLatticeLeavesNoGap) {
+  // centred on a fluid lattice point: the disc takes exactly the fluid points within R, and the fluid right
+  // outside it (a spacing from the disc's particles) stays
+  const double cx = 0.505, cy = 0.405, R = 0.05, dx = 0.01;
+  long within_r = 0;
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 80; ++j) within_r += std::hypot((i + 0.5) * dx - cx, (j + 0.5) * dx - cy) <= R + 1e-9 * dx;
+  std::string out;
+  const long n = sampled_fluid("solid_ball_on", scene_with({{"kind", "boundary"}, {"shape", "sphere"},
+                                                           {"center", {cx, cy}}, {"radius", R}}), &out);
+  EXPECT_EQ(n, 8000 - within_r) << out;
 }
