@@ -374,6 +374,7 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
     }
     (void)first;
   }
+  const std::size_t fluid_drawn = out.count(0);
   if (const std::size_t inside = remove_fluid_inside_solids<D>(s, out)) {
     std::fprintf(stderr, "varsph: note: %s: removed %zu fluid particles inside solid bodies (rigid bodies, boundary "
                  "blocks and balls)\n", s.file.string().c_str(), inside);
@@ -382,10 +383,10 @@ InitialParticles<D> build_particles(const scene::Scene& s, double B) {
     std::fprintf(stderr, "varsph: note: %s: removed %zu fluid particles closer than %g m to boundary particles "
                  "(overlapping bodies; particles.min_boundary_distance)\n", s.file.string().c_str(), removed,
                  s.min_boundary_distance);
-    if (out.count(0) == 0)
-      throw InputError(s.file.string() + ": every fluid particle overlaps a boundary body (check the bodies' "
-                                         "positions and units)");
   }
+  if (fluid_drawn > 0 && out.count(0) == 0)  // the removals above took all of it (a fluid drawn inside a solid)
+    throw InputError(s.file.string() + ": every fluid particle overlaps a boundary body (check the bodies' "
+                                       "positions and units)");
   return out;
 }
 
