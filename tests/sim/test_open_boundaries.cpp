@@ -231,6 +231,19 @@ TEST(OpenBoundaries, BadInputStopsBeforeTheRunNamingZoneAndKey) {
     EXPECT_TRUE(e.find("line 3") != std::string::npos || e.find("line 4") != std::string::npos) << e;
   }
   std::filesystem::remove_all(dir);
+  // an outlet no inlet reaches: a wall across the channel between them (the fluid on both sides, so every
+  // zone faces fluid); the same wall with a gap of two spacings at the top lets the flow through
+  {
+    nlohmann::json j = channel_json();
+    j["bodies"].push_back({{"kind", "boundary"}, {"shape", "box"}, {"min", {0.4, 0.0}}, {"max", {0.6, 1.0}}});
+    e = input_error({}, j);
+    EXPECT_NE(e.find("open_channel.json: key 'open_boundaries.1.min' (zone 'out')"), std::string::npos) << e;
+    EXPECT_NE(e.find("no path"), std::string::npos) << e;
+    EXPECT_NE(e.find("inlet 'in'"), std::string::npos) << e;
+    j["bodies"].back()["max"] = {0.6, 0.8};
+    e = input_error({}, j);
+    EXPECT_EQ(e, "");
+  }
   // an integrator the buffer update is not written for
   e = input_error({"integrator.type=rk4"});
   EXPECT_NE(e.find("integrator.type"), std::string::npos) << e;
