@@ -249,24 +249,38 @@ void OpenBoundaries<D>::before_step(Simulation<D>& sim) {
     x0[i] = x[i];
     v0[i] = v[i];
   });
+  stepping_ = true;
+  placed_ = false;
   impose_seconds_ += seconds_since(t0);
+}
+
+template <int D>
+void OpenBoundaries<D>::place_buffers(Simulation<D>& sim) {
+  if (!stepping_) return;
+  // buffer particles move with their velocity of the step's start (Tafuni 2018 sec. 3.1), not the fluid's
+  // forces; each particle its own slots (a worksharing loop inside a step's team)
+  auto& f = sim.fields();
+  const Real dt = Real(sim.dt());
+  const std::int32_t* zone = zone_->data.data();
+  Vec<D>* x = f.x.data.data();
+  const Vec<D>* x0 = x0_->data.data();
+  const Vec<D>* v0 = v0_->data.data();
+  for_each_particle(sim.size(), [&](std::size_t i) {
+    if (zone[i] >= 0) x[i] = x0[i] + dt * v0[i];
+  });
+  team_single([&] { placed_ = true; });
 }
 
 template <int D>
 void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
   auto& f = sim.fields();
   auto& flow = sim.flow();
-  const Real dt = Real(sim.dt());
   auto t0 = std::chrono::steady_clock::now();
-  {  // buffer particles move with their velocity of the step's start (Tafuni 2018 sec. 3.1), not the fluid's forces
-    std::int32_t* zone = zone_->data.data();
-    Vec<D>* x = f.x.data.data();
-    const Vec<D>* x0 = x0_->data.data();
-    const Vec<D>* v0 = v0_->data.data();
-    for_each_particle(sim.size(), [&](std::size_t i) {
-      if (zone[i] >= 0) x[i] = x0[i] + dt * v0[i];
-    });
-  }
+  // the buffer particles were placed before the drift's sort (place_buffers); an integrator that did not
+  // sort leaves them to be placed here, and the grid to be rebuilt below
+  const bool unplaced = !placed_;
+  if (unplaced) place_buffers(sim);
+  stepping_ = false;
   // transitions, serially in storage order (the same decisions and sums on any thread count)
   created_src_.clear();
   created_zone_.clear();
@@ -312,7 +326,7 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
       break;
     }
   }
-  const bool changed = !created_src_.empty() || !removed_.empty();
+  const bool changed = unplaced || !created_src_.empty() || !removed_.empty();
   if (!created_src_.empty()) {  // a copy one zone depth upstream takes each crossing particle's place
     const std::size_t first = sim.create_particles(created_src_);
     const double t = sim.time();
