@@ -82,6 +82,8 @@ class OpenBoundaries {
   Real distance(const Zone& z, const Vec<D>& x) const { return z.sign * (x[z.axis] - z.face); }
   bool beside(const Zone& z, const Vec<D>& x) const;  // within the box's extent across the direction
   Vec<D> inflow(const Zone& z, const Vec<D>& x, double t) const;
+  // InputError naming the first outlet that no inlet reaches through the domain (walls in between).
+  void check_outlets_reachable(Simulation<D>& sim) const;
   // Velocity, density and pressure of every buffer particle from the zones' conditions (grid valid).
   void impose(Simulation<D>& sim);
 
