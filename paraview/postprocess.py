@@ -24,7 +24,8 @@ Writes (and prints each path):
                                   wave_analysis.py (heights and periods per gauge, gauges against linear theory)
   deviation.csv/.png              with --compare: time,D_max,D_mean,D_rms over the common times (eq. 70)
   scene_diff.txt                  with --compare: the resolved scene keys in which the runs differ
-  free_surface_t<T>.png, pressure_t<T>.png, pressure_smoothed_t<T>.png (raw | smoothed), deviation_t<T>.png
+  free_surface_t<T>.png, pressure_t<T>.png, pressure_smoothed_t<T>.png (raw | smoothed), deviation_t<T>.png,
+  open_flow_t<T>.png (runs with inlets and outlets: speed, velocity arrows, inflow and outflow zones)
                                   pictures at --times (nearest frames; default 4 evenly spaced frames;
                                   deviation: the last common time); T is the output time the frame was
                                   written for (k x output.every: 0.4, not an adaptive step's 0.395943)
@@ -49,7 +50,7 @@ import numpy as np  # noqa: E402
 
 from varsph import deviation as dev  # noqa: E402
 from varsph import io as vio  # noqa: E402
-from varsph import casefit, plots, probe, reference, runmeta, surge  # noqa: E402
+from varsph import casefit, openb, plots, probe, reference, runmeta, surge  # noqa: E402
 
 WRITTEN = []
 
@@ -221,8 +222,11 @@ def snapshots(run, other, post, times, size=(1200, 700)):
 
     def label(t):
         return casefit.time_label(t, every)
-    for name, build in (("free_surface", lambda: pvstate.free_surface_state(run, view=pvstate.new_view(size))),
-                        ("pressure", lambda: pvstate.pressure_state(run, view=pvstate.new_view(size)))):
+    states = [("free_surface", lambda: pvstate.free_surface_state(run, view=pvstate.new_view(size))),
+              ("pressure", lambda: pvstate.pressure_state(run, view=pvstate.new_view(size)))]
+    if openb.zones(run):   # inlets and outlets (issue 32): speed, velocity arrows, inflow and outflow zones
+        states.append(("open_flow", lambda: pvstate.open_flow_state(run, view=pvstate.new_view(size))))
+    for name, build in states:
         s.ResetSession()
         view = build()
         for t in times:

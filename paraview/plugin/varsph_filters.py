@@ -44,6 +44,7 @@ from paraview.util.vtkAlgorithm import smdomain, smhint, smproperty, smproxy  # 
 
 import varsph  # noqa: E402
 from varsph import deviation as _dev  # noqa: E402
+from varsph import openb as _openb  # noqa: E402
 from varsph import parts as _parts  # noqa: E402
 from varsph import surge as _surge  # noqa: E402
 
@@ -219,7 +220,8 @@ class RunReader(VTKPythonAlgorithmBase):
 
     def _with_part(self, ds):
         """The frame plus `part` (0 fluid, 1 wall, 2 obstacle or body; varsph/parts.py), which the states
-        use to cut the container away in 3D. Bodies are classified once per run, on its first frame."""
+        use to cut the container away in 3D, and, in runs with open boundaries, `open_kind` (0 none, 1 inlet,
+        2 outlet buffer particle; varsph/openb.py). Bodies are classified once per run, on its first frame."""
         if self._classes[0] != self._pvd:
             f0 = varsph.io.read_vtu(self._entries[0][1], self._entries[0][0])
             classes = {}
@@ -230,6 +232,9 @@ class RunReader(VTKPythonAlgorithmBase):
         if kind is None:
             kind = np.zeros(ds.GetNumberOfPoints(), dtype=np.int32)
         _add_point_array(ds, "part", _parts.part_array(kind, varsph.io.point_array(ds, "body"), self._classes[1]))
+        open_zone = varsph.io.point_array(ds, "open_zone")
+        if open_zone is not None:   # open boundaries: 1 inlet, 2 outlet buffer particles, 0 the rest (varsph/openb.py)
+            _add_point_array(ds, "open_kind", _openb.open_kind_array(open_zone, _openb.zones(self._pvd)))
         return ds
 
 

@@ -21,6 +21,7 @@ import sys
 import numpy as np
 
 from .compat import load_plugin, plugin_loaded
+from . import openb as _openb
 from .io import frames_of_run, point_array, read_vtu, vertical_axis
 
 PRESSURE_LUT = "Cool to Warm"
@@ -631,7 +632,66 @@ def deviation_state(run_a=None, run_b=None, time=None, drange=None, view=None, p
     return _finish(view, info, "A", calls, [a for a, _ in pairs], time, portable)
 
 
-STATES = {"free_surface": free_surface_state, "pressure": pressure_state, "deviation": deviation_state}
+INLET_COLOUR = [0.98, 0.55, 0.10]    # orange: inflow buffer particles (not in Viridis, the speed map)
+OUTLET_COLOUR = [0.85, 0.15, 0.45]   # crimson: outflow buffer particles
+ARROW_COLOUR = [0.0, 0.0, 0.0]
+ARROWS_ACROSS = 15                    # about this many velocity arrows along the longer side of the fluid
+
+
+def open_flow_state(run=None, time=None, vrange=None, view=None, portable=False):
+    """(4) Open boundaries (issue 32, docs/open_boundaries.md): the fluid coloured by speed (0 .. 99th
+    percentile of the frame, or ``vrange``), the inflow zones' buffer particles orange and the outflow zones'
+    crimson (`open_kind` of varsph Run), walls grey, and black velocity arrows on a subset of the fluid
+    (Glyph, every n-th particle, length proportional to the speed: ``ARROWS_ACROSS`` arrows along the
+    fluid's longer side, the longest about 3 spacings)."""
+    s = pv()
+    run_dir = resolve(None if portable else run)
+    info = RunInfo(run_dir)
+    if "open_zone" not in info.arrays or "velocity" not in info.arrays:
+        raise ValueError("the frames of %s have no point array 'open_zone' and 'velocity': not a run with open "
+                         "boundaries (they have %s)" % (run_dir, ", ".join(sorted(info.arrays))))
+    view = view or new_view(name="varsph open flow")
+    r = open_run(None if portable else run_dir)
+    fluid_all = _fluid_and_walls(s, r, info, view)
+    fluid = _select(s, "Fluid Interior", fluid_all, "open_kind", 0)
+    inflow = _select(s, "Inflow Zones", r, "open_kind", 1)
+    outflow = _select(s, "Outflow Zones", r, "open_kind", 2)
+    _points(inflow, view, info.dx, colour=INLET_COLOUR)
+    _points(outflow, view, info.dx, colour=OUTLET_COLOUR)
+    d = _points(fluid, view, info.dx)
+    lut = _colour_bar(d, view, "velocity", "Magnitude", SPEED_LUT, "speed [m/s]", fmt="%-.3g")
+    # arrows: n such that about ARROWS_ACROSS^2 (2D) arrows cover the fluid; length 3 dx at the largest speed
+    last = _output_at(r, info.times[-1])
+    v = point_array(last, "velocity")
+    oz = point_array(last, "open_zone")
+    kind = point_array(last, "kind")
+    inner = (np.asarray(kind).reshape(-1) == 0) & (np.asarray(oz).reshape(-1) < 0)
+    speed = np.linalg.norm(np.asarray(v).reshape(len(inner), -1)[inner], axis=1) if inner.any() else np.zeros(1)
+    umax = float(np.percentile(speed, 99)) if len(speed) else 0.0
+    extent = float(np.max(info.hi - info.lo)) if np.all(np.isfinite(info.hi - info.lo)) else 1.0
+    cells = max(1.0, (extent / info.dx) / ARROWS_ACROSS) ** info.dimension
+    glyph = s.Glyph(registrationName="Velocity Arrows", Input=fluid, GlyphType="Arrow")
+    glyph.OrientationArray = ["POINTS", "velocity"]
+    glyph.ScaleArray = ["POINTS", "velocity"]
+    glyph.ScaleFactor = 3.0 * info.dx / umax if umax > 0 else info.dx
+    glyph.GlyphMode = "Every Nth Point"
+    glyph.Stride = max(1, int(round(cells)))
+    gd = s.Show(glyph, view)
+    gd.ColorArrayName = ["POINTS", ""]
+    gd.AmbientColor = gd.DiffuseColor = ARROW_COLOUR
+    names = _openb.zones(run_dir)
+    legend = "; ".join("%s '%s' %s" % (z["kind"], z["name"], "orange" if z["kind"] == "inlet" else "crimson")
+                       for z in names if z["kind"])
+    _text(view, "open boundaries: fluid coloured by speed, arrows = velocity\n%s" % legend, name="Title")
+    time_annotation(view, r)
+    calls = [] if vrange else [("Fluid Interior", "velocity", "velocity", SPEED_PERCENTILES, True)]
+    if vrange:
+        lut.RescaleTransferFunction(*vrange)
+    return _finish(view, info, "run", calls, info.times, time, portable)
+
+
+STATES = {"free_surface": free_surface_state, "pressure": pressure_state, "deviation": deviation_state,
+          "open_flow": open_flow_state}
 
 
 def screenshot(view, path, size=None):

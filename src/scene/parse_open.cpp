@@ -5,6 +5,8 @@
 #include <limits>
 #include <sstream>
 
+#include "core/errors.hpp"
+
 namespace varsph::scene {
 namespace {
 
@@ -155,13 +157,25 @@ void parse_open_boundaries(JsonReader& r, Scene& s) {
   const std::size_t n = r.array_size("open_boundaries");
   for (std::size_t k = 0; k < n; ++k) {
     const std::string base = "open_boundaries." + std::to_string(k);
-    s.open_boundaries.push_back(parse_zone(r, base, s));
-    for (std::size_t j = 0; j < k; ++j) {
-      if (s.open_boundaries[j].name == s.open_boundaries[k].name)
-        r.fail_got(at(base, "name"), "a name no other zone has", json(s.open_boundaries[k].name));
-      if (boxes_overlap(s.open_boundaries[j], s.open_boundaries[k], s.dimension))
-        r.fail(at(base, "min"), "a zone that does not overlap zone '" + s.open_boundaries[j].name + "' (open_boundaries." +
-                                    std::to_string(j) + ")");
+    try {
+      s.open_boundaries.push_back(parse_zone(r, base, s));
+      for (std::size_t j = 0; j < k; ++j) {
+        if (s.open_boundaries[j].name == s.open_boundaries[k].name)
+          r.fail_got(at(base, "name"), "a name no other zone has", json(s.open_boundaries[k].name));
+        if (boxes_overlap(s.open_boundaries[j], s.open_boundaries[k], s.dimension))
+          r.fail(at(base, "min"), "a zone that does not overlap zone '" + s.open_boundaries[j].name + "' (open_boundaries." +
+                                      std::to_string(j) + ")");
+      }
+    } catch (const InputError& e) {
+      // name the zone after its key, as the checks after the build do: "key 'open_boundaries.K.x' (zone 'N'):"
+      const json* name = r.raw(at(base, "name"));
+      std::string m = e.what();
+      const std::string lead = "key '" + base;
+      const std::size_t p = m.find(lead);
+      const std::size_t q = p == std::string::npos ? p : m.find('\'', p + lead.size());
+      if (!name || !name->is_string() || q == std::string::npos || m.compare(q + 1, 2, ": ") != 0) throw;
+      m.insert(q + 1, " (zone '" + name->get<std::string>() + "')");
+      throw InputError(m);
     }
   }
 }

@@ -5,6 +5,7 @@
 #include <array>
 #include <utility>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include <Eigen/Dense>
@@ -169,6 +170,7 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
       }
     }
   }
+  check_outlets_reachable(sim);
   // the fluid inside the zones gives way to the zones' lattices (lattice points at (i + 1/2) dx from the
   // box's lower corner: the fluid's own lattice when the box faces lie on its lattice lines)
   std::uint32_t fluid_src = UINT32_MAX;
@@ -229,6 +231,161 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
   sim.recount_kinds();
 }
 
+template <int D>
+void OpenBoundaries<D>::check_outlets_reachable(Simulation<D>& sim) const {
+  // Every outlet must be reachable from an inlet through the domain, as the fluid would flow: a flood fill
+  // over cells of one spacing (lattice-aligned: the first inlet's corner is a cell corner, so lattice
+  // particles sit at cell centres), 2D 4-connected / 3D 6-connected, from the cells just beyond each inlet's
+  // interface, through every cell that holds no boundary particle and lies in no zone (fluid entering an
+  // inlet zone or crossing a zone's outer face leaves the domain), until it meets an outlet's cells. Walls of
+  // particles at most a spacing apart leave no face-connected gap. Without inlets (a tank draining through an
+  // outlet) there is nothing to check.
+  const auto& s = scene_;
+  std::size_t first_inlet = zones_.size();
+  for (std::size_t k = 0; k < zones_.size() && first_inlet == zones_.size(); ++k)
+    if (zones_[k].inlet) first_inlet = k;
+  if (first_inlet == zones_.size() || zones_.size() > 250) return;
+  const auto& f = sim.fields();
+  const std::size_t n = sim.size();
+  const double dx = s.spacing;
+  // the box: the domain (a hash-grid domain is unbounded: the particles' and zones' box, one cell around)
+  std::array<double, D> lo{}, hi{};
+  for (int a = 0; a < D; ++a) {
+    lo[std::size_t(a)] = s.domain_min[std::size_t(a)];
+    hi[std::size_t(a)] = s.domain_max[std::size_t(a)];
+  }
+  if (s.neighbor_search == "hash") {
+    std::array<double, D> blo, bhi;
+    blo.fill(std::numeric_limits<double>::infinity());
+    bhi.fill(-std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < n; ++i)
+      for (int a = 0; a < D; ++a) {
+        blo[std::size_t(a)] = std::min(blo[std::size_t(a)], double(f.x[i][a]));
+        bhi[std::size_t(a)] = std::max(bhi[std::size_t(a)], double(f.x[i][a]));
+      }
+    for (const Zone& z : zones_)
+      for (int a = 0; a < D; ++a) {
+        blo[std::size_t(a)] = std::min(blo[std::size_t(a)], double(z.lo[a]));
+        bhi[std::size_t(a)] = std::max(bhi[std::size_t(a)], double(z.hi[a]));
+      }
+    for (int a = 0; a < D; ++a)
+      if (!s.periodic[std::size_t(a)]) {
+        lo[std::size_t(a)] = std::max(lo[std::size_t(a)], blo[std::size_t(a)] - dx);
+        hi[std::size_t(a)] = std::min(hi[std::size_t(a)], bhi[std::size_t(a)] + dx);
+      }
+  }
+  // cell c on axis a covers [org + c dx, org + (c+1) dx); org on the first inlet's lattice lines
+  std::array<double, D> org{};
+  std::array<std::int64_t, D> cells{};
+  std::int64_t total = 1;
+  for (int a = 0; a < D; ++a) {
+    const double c = double(zones_[first_inlet].lo[a]);
+    org[std::size_t(a)] = c - std::ceil((c - lo[std::size_t(a)]) / dx - 1e-9) * dx;
+    cells[std::size_t(a)] =
+        std::max<std::int64_t>(1, std::int64_t(std::ceil((hi[std::size_t(a)] - org[std::size_t(a)]) / dx - 1e-9)));
+    total *= cells[std::size_t(a)];
+  }
+  if (total > (std::int64_t(1) << 28)) return;  // over 2.7e8 cells (256 MB): not checked (docs/open_boundaries.md)
+  // state: open, wall, reached, or 3 + k inside zone k
+  enum : std::uint8_t { kOpen = 0, kWall = 1, kReached = 2, kZone = 3 };
+  std::vector<std::uint8_t> state(std::size_t(total), kOpen);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (f.kind[i] == 0) continue;
+    std::int64_t key = 0, mul = 1;
+    bool in = true;
+    for (int a = 0; a < D && in; ++a) {
+      const std::int64_t c = std::int64_t(std::floor((double(f.x[i][a]) - org[std::size_t(a)]) / dx));
+      in = c >= 0 && c < cells[std::size_t(a)];
+      key += c * mul;
+      mul *= cells[std::size_t(a)];
+    }
+    if (in) state[std::size_t(key)] = kWall;
+  }
+  // the cells whose centres lie in a zone's box
+  const auto for_zone_cells = [&](const Zone& z, auto&& visit) {
+    std::array<std::int64_t, D> c0{}, c1{};
+    for (int a = 0; a < D; ++a) {
+      const double o = org[std::size_t(a)];
+      c0[std::size_t(a)] = std::max<std::int64_t>(0, std::int64_t(std::ceil((double(z.lo[a]) - o) / dx - 0.5 - 1e-9)));
+      c1[std::size_t(a)] = std::min<std::int64_t>(cells[std::size_t(a)],
+                                                  std::int64_t(std::floor((double(z.hi[a]) - o) / dx - 0.5 + 1e-9)) + 1);
+      if (c1[std::size_t(a)] <= c0[std::size_t(a)]) return;
+    }
+    std::array<std::int64_t, D> c = c0;
+    for (;;) {
+      std::int64_t key = 0, mul = 1;
+      for (int a = 0; a < D; ++a) {
+        key += c[std::size_t(a)] * mul;
+        mul *= cells[std::size_t(a)];
+      }
+      visit(key, c);
+      int a = 0;
+      for (; a < D; ++a) {
+        if (++c[std::size_t(a)] < c1[std::size_t(a)]) break;
+        c[std::size_t(a)] = c0[std::size_t(a)];
+      }
+      if (a == D) return;
+    }
+  };
+  for (std::size_t k = 0; k < zones_.size(); ++k)
+    for_zone_cells(zones_[k], [&](std::int64_t key, const auto&) { state[std::size_t(key)] = std::uint8_t(kZone + k); });
+  std::vector<char> outlet_reached(zones_.size(), 0);
+  std::vector<std::int64_t> front;
+  const auto visit = [&](std::int64_t key) {
+    std::uint8_t& st = state[std::size_t(key)];
+    if (st == kOpen) {
+      st = kReached;
+      front.push_back(key);
+    } else if (st >= kZone && !zones_[std::size_t(st - kZone)].inlet) {
+      outlet_reached[std::size_t(st - kZone)] = 1;
+    }
+  };
+  // the neighbour of cell c on axis a at offset step, periodic axes wrapped; false beyond the box
+  const auto neighbour = [&](std::int64_t key, std::int64_t ca, int a, int step, std::int64_t& nb) {
+    std::int64_t mul = 1;
+    for (int b = 0; b < a; ++b) mul *= cells[std::size_t(b)];
+    const std::int64_t na = cells[std::size_t(a)];
+    std::int64_t cb = ca + step;
+    if (cb < 0 || cb >= na) {
+      if (!s.periodic[std::size_t(a)]) return false;
+      cb = (cb + na) % na;
+    }
+    nb = key + (cb - ca) * mul;
+    return true;
+  };
+  // seeds: the cells beyond each inlet's interface (its direction's neighbours of the zone's cells)
+  for (std::size_t k = 0; k < zones_.size(); ++k) {
+    const Zone& z = zones_[k];
+    if (!z.inlet) continue;
+    for_zone_cells(z, [&](std::int64_t key, const auto& c) {
+      std::int64_t nb;
+      if (neighbour(key, c[std::size_t(z.axis)], z.axis, z.sign > 0 ? 1 : -1, nb)) visit(nb);
+    });
+  }
+  while (!front.empty()) {  // depth-first (a stack): the set reached does not depend on the order
+    const std::int64_t key = front.back();
+    front.pop_back();
+    std::int64_t rest = key;
+    for (int a = 0; a < D; ++a) {
+      const std::int64_t ca = rest % cells[std::size_t(a)];
+      rest /= cells[std::size_t(a)];
+      for (const int step : {-1, 1}) {
+        std::int64_t nb;
+        if (neighbour(key, ca, a, step, nb)) visit(nb);
+      }
+    }
+  }
+  for (std::size_t k = 0; k < zones_.size(); ++k) {
+    if (zones_[k].inlet || outlet_reached[k]) continue;
+    std::ostringstream m;
+    m << s.file.string() << ": key 'open_boundaries." << k << ".min' (zone '" << s.open_boundaries[k].name << "'): "
+      << "no path through the domain leads from an inlet to this outlet (walls close it off from inlet '"
+      << s.open_boundaries[first_inlet].name << "'" << (zones_.size() > 2 ? " and every other inlet" : "")
+      << "); expected an outlet the inflow can reach: move the zone or open the walls between them";
+    throw InputError(m.str());
+  }
+}
+
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -249,24 +406,38 @@ void OpenBoundaries<D>::before_step(Simulation<D>& sim) {
     x0[i] = x[i];
     v0[i] = v[i];
   });
+  stepping_ = true;
+  placed_ = false;
   impose_seconds_ += seconds_since(t0);
+}
+
+template <int D>
+void OpenBoundaries<D>::place_buffers(Simulation<D>& sim) {
+  if (!stepping_) return;
+  // buffer particles move with their velocity of the step's start (Tafuni 2018 sec. 3.1), not the fluid's
+  // forces; each particle its own slots (a worksharing loop inside a step's team)
+  auto& f = sim.fields();
+  const Real dt = Real(sim.dt());
+  const std::int32_t* zone = zone_->data.data();
+  Vec<D>* x = f.x.data.data();
+  const Vec<D>* x0 = x0_->data.data();
+  const Vec<D>* v0 = v0_->data.data();
+  for_each_particle(sim.size(), [&](std::size_t i) {
+    if (zone[i] >= 0) x[i] = x0[i] + dt * v0[i];
+  });
+  team_single([&] { placed_ = true; });
 }
 
 template <int D>
 void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
   auto& f = sim.fields();
   auto& flow = sim.flow();
-  const Real dt = Real(sim.dt());
   auto t0 = std::chrono::steady_clock::now();
-  {  // buffer particles move with their velocity of the step's start (Tafuni 2018 sec. 3.1), not the fluid's forces
-    std::int32_t* zone = zone_->data.data();
-    Vec<D>* x = f.x.data.data();
-    const Vec<D>* x0 = x0_->data.data();
-    const Vec<D>* v0 = v0_->data.data();
-    for_each_particle(sim.size(), [&](std::size_t i) {
-      if (zone[i] >= 0) x[i] = x0[i] + dt * v0[i];
-    });
-  }
+  // the buffer particles were placed before the drift's sort (place_buffers); an integrator that did not
+  // sort leaves them to be placed here, and the grid to be rebuilt below
+  const bool unplaced = !placed_;
+  if (unplaced) place_buffers(sim);
+  stepping_ = false;
   // transitions, serially in storage order (the same decisions and sums on any thread count)
   created_src_.clear();
   created_zone_.clear();
@@ -312,7 +483,7 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
       break;
     }
   }
-  const bool changed = !created_src_.empty() || !removed_.empty();
+  const bool changed = unplaced || !created_src_.empty() || !removed_.empty();
   if (!created_src_.empty()) {  // a copy one zone depth upstream takes each crossing particle's place
     const std::size_t first = sim.create_particles(created_src_);
     const double t = sim.time();

@@ -10,8 +10,9 @@
 //    the zone into the fluid) points to; its depth along the direction must cover the kernel support.
 //  - Buffer particles are fluid particles (kind 0) tagged with their zone in the registered field
 //    `open_zone` (-1: not a buffer). They take part in every neighbour sum as fluid, but their state is
-//    imposed after each step: each moves with the velocity it had at the start of the step
-//    (x = x0 + dt v0, Tafuni sec. 3.1), and gets
+//    imposed: each moves with the velocity it had at the start of the step (x = x0 + dt v0, Tafuni
+//    sec. 3.1), placed there in the step's sort (place_buffers) so the grid is that of the final
+//    positions, and after the step gets
 //      inlet:  the prescribed velocity u(x, t) along the direction (uniform, 2D parabolic, or a time
 //              series), and the density extrapolated from its ghost node x_g = x - 2 s n (its mirror
 //              image across the interface, s < 0 its signed distance) to first order,
@@ -52,7 +53,13 @@ class OpenBoundaries {
   void initial_values(Simulation<D>& sim) { impose(sim); }
   // Around each step (Simulation::advance).
   void before_step(Simulation<D>& sim);
+  // Inside a step, from Simulation::sort_and_bin() before it bins (the integrator's drift): the buffer
+  // particles' positions x0 + dt v0, so the grid, the density update after the drift and the next step
+  // see them where they are. Outside a step (the first sort, a restart) it does nothing.
+  void place_buffers(Simulation<D>& sim);
   void after_step(Simulation<D>& sim);
+  // A step abandoned (a blow-up replay, a restart): the next sort places nothing.
+  void abandon_step() { stepping_ = placed_ = false; }
 
   std::size_t buffer_count() const { return buffers_; }
   // Wall time spent here since the start (bench/open): the transitions with creation, removal and the sort
@@ -75,6 +82,8 @@ class OpenBoundaries {
   Real distance(const Zone& z, const Vec<D>& x) const { return z.sign * (x[z.axis] - z.face); }
   bool beside(const Zone& z, const Vec<D>& x) const;  // within the box's extent across the direction
   Vec<D> inflow(const Zone& z, const Vec<D>& x, double t) const;
+  // InputError naming the first outlet that no inlet reaches through the domain (walls in between).
+  void check_outlets_reachable(Simulation<D>& sim) const;
   // Velocity, density and pressure of every buffer particle from the zones' conditions (grid valid).
   void impose(Simulation<D>& sim);
 
@@ -86,6 +95,8 @@ class OpenBoundaries {
   std::vector<std::uint32_t> created_src_, removed_, kept_, buffer_idx_;
   std::vector<std::int32_t> created_zone_;
   std::size_t buffers_ = 0;
+  bool stepping_ = false;  // between before_step and after_step
+  bool placed_ = false;    // place_buffers ran in this step (else after_step places them and rebins)
   double transition_seconds_ = 0, impose_seconds_ = 0;
 };
 

@@ -345,6 +345,7 @@ nlohmann::json Simulation<D>::save_flow_state() const {
 
 template <int D>
 void Simulation<D>::restore_flow_state(const nlohmann::json& j) {
+  if (open_) open_->abandon_step();  // a step cut short by a blow-up left its buffer kinematics behind
   if (!j.is_object() || !j.contains("next_id")) {  // a checkpoint from before the flows were saved
     std::int64_t top = -1;
     for (std::size_t i = 0; i < size(); ++i) top = std::max(top, f_.id[i]);
@@ -429,6 +430,8 @@ template <int D>
 void Simulation<D>::sort_and_bin() {
   // moving walls take their place in the new configuration (time t + dt) before binning
   if (motion_ && walls_move()) team_single([&] { move_boundaries(time_ + dt_); });
+  // buffer particles likewise: x0 + dt v0 (Tafuni 2018 sec. 3.1), not the integrator's drift
+  if (open_) open_->place_buffers(*this);
   rebin();
 }
 

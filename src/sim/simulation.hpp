@@ -129,7 +129,8 @@ class Simulation {
 
   // --- services for integrators -----------------------------------------------------------------
   // Wraps periodic positions, sorts all particle arrays by cell (through the registry) and rebuilds
-  // the neighbour grid. `extra_skin` enlarges the cells so the grid stays valid while particles move
+  // the neighbour grid. Moving walls and, within a step, open-boundary buffer particles take their
+  // prescribed places first, so the grid is the grid of the step's final positions. `extra_skin` enlarges the cells so the grid stays valid while particles move
   // less than extra_skin / 2 (the variational iterations reuse it).
   void sort_and_bin();
   // The same without moving walls: wraps, sorts and bins the particles where they are.

@@ -3,7 +3,7 @@ layouts and views, where the fluid and the colour bar are on screen, colour rang
 the time annotation. ``inspect()`` returns a JSON-able dict; ``image_check()`` reads a screenshot."""
 import numpy as np
 
-FLUID_SOURCES = ("FreeSurfaceParticles", "FluidDeviation", "Fluid")
+FLUID_SOURCES = ("FreeSurfaceParticles", "FluidDeviation", "Fluid Interior", "Fluid")
 
 
 def _display_box(view, bounds):
