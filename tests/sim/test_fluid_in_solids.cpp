@@ -21,7 +21,7 @@ using nlohmann::json;
 
 // fluid box [0, 1] x [0, 0.8] at dx = 0.01 (8000 particles, centres at (i + 1/2) dx), one solid in it
 json scene_with(const json& solid) {
-  return {{"name", "solid"}, {"dimension", 2},
+  return {{"name", "solid"}, {"setup", "paper"}, {"dimension", 2},
           {"domain", {{"min", {-0.1, -0.1}}, {"max", {1.1, 1.0}}}},
           {"particles", {{"spacing", 0.01}}}, {"gravity", {0, -9.81}},
           {"bodies", {{{"kind", "fluid"}, {"shape", "box"}, {"min", {0, 0}}, {"max", {1.0, 0.8}}}, solid}},
