@@ -96,7 +96,7 @@ def scenes(out):
 
 
 def checkpoints(out, varsph):
-    scene = {"name": "seed", "dimension": 2, "domain": {"min": [-0.1, -0.1], "max": [0.2, 0.2]},
+    scene = {"name": "seed", "setup": "paper", "dimension": 2, "domain": {"min": [-0.1, -0.1], "max": [0.2, 0.2]},
              "particles": {"spacing": 0.02}, "fluid": {"rho0": 1000.0, "c0": 10.0}, "gravity": [0.0, -9.81],
              "bodies": [{"kind": "fluid", "shape": "box", "min": [0.0, 0.0], "max": [0.06, 0.06]},
                         {"kind": "boundary", "shape": "points", "points": [[0.0, -0.02], [0.04, -0.02]]}],

@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   const int layers = 3;  // Wendland support 2 h = 2.6 dx
   const double depth = layers * dx;
   nlohmann::json j = nlohmann::json::parse(R"({
-    "name": "bench_open", "dimension": 2,
+    "name": "bench_open", "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.5, -0.5], "max": [2.5, 1.5]},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},
     "fluid": {"rho0": 1000.0, "c0": 40.0},

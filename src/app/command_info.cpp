@@ -25,9 +25,9 @@ int command_info(const CommandArgs& a) {
   if (planned <= a.limits.calibrate_max_particles) {
     std::fputs(describe_scene(s).c_str(), stdout);
   } else {  // sampling it would take long: the estimate below comes from a coarser copy (issue 35)
-    std::printf("scene              %s (%s)\ndimension          %d\nparticles          about %.4g planned "
+    std::printf("scene              %s (%s)\ndimension          %d\nsetup              %s\nparticles          about %.4g planned "
                 "(from the bodies' sizes; not sampled: more than --calibrate-max %.4g)\ndx                 %g m\n",
-                s.name.c_str(), s.file.string().c_str(), s.dimension, planned, a.limits.calibrate_max_particles,
+                s.name.c_str(), s.file.string().c_str(), s.dimension, setup_line(s).c_str(), planned, a.limits.calibrate_max_particles,
                 s.spacing);
   }
   // unusual but accepted values (scene/sanity.hpp; docs/scene.md "Sanity checks")

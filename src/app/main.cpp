@@ -18,7 +18,10 @@ int main(int argc, char** argv) {
   parallel::Session session(argc, argv);
   const bool root = session.world()->root();
   CLI::App app{"varsph: weakly-compressible SPH with variational time integration.\n"
-               "Scenes are JSON files (docs/scene.md); results are VTU/PVD for ParaView."};
+               "Scenes are JSON files (docs/scene.md); results are VTU/PVD for ParaView.\n"
+               "A scene that names no method keys runs the recommended engineering set-up (Wendland C2, Riemann "
+               "dissipation, dummy walls, symplectic Euler at CFL 0.2); \"setup\": \"paper\" (or --set setup=paper) "
+               "gives the paper's defaults (docs/scene.md \"Set-up\")."};
   app.set_version_flag("--version", std::string("varsph ") + VARSPH_VERSION + " (" + VARSPH_REAL_NAME + ")");
   app.require_subcommand(1);
 

@@ -66,7 +66,7 @@ void JsonReader::record(const std::string& path, const json& value) {
 namespace {
 // The blocks of a scene (docs/scene.md): candidates for a misspelt top-level key even when the scene names
 // none of the keys of a block (the parse then never meets them).
-const std::vector<std::string> kTopLevel = {"name", "dimension", "domain", "particles", "kernel", "gravity",
+const std::vector<std::string> kTopLevel = {"name", "setup", "dimension", "domain", "particles", "kernel", "gravity",
                                             "fluid", "bodies", "physics", "boundary", "integrator", "time",
                                             "output", "checkpoint", "probes", "log", "health", "execution",
                                             "parallel", "moorings", "contact"};
@@ -95,12 +95,26 @@ std::string JsonReader::origin(const std::string& path) const {
   return file_;
 }
 
+void JsonReader::supply(const std::string& path, const json& value, const std::string& setup) {
+  root_[pointer_of(path)] = value;
+  supplied_.push_back(path);
+  setup_ = setup;
+}
+
+std::string JsonReader::supplied_note(const std::string& path) const {
+  for (const auto& k : supplied_)
+    if (at_or_under(path, k))
+      return " (not in the scene: the default of \"setup\": \"" + setup_ + "\"; name the key in the scene, or set "
+             "\"setup\": \"paper\" for the paper's defaults, docs/scene.md \"Set-up\")";
+  return "";
+}
+
 void JsonReader::fail(const std::string& path, const std::string& expected) const {
   if (expected.find("required key is missing") != std::string::npos) throw_if_misspelt(path);
-  throw InputError(origin(path) + ": key '" + path + "': expected " + expected);
+  throw InputError(origin(path) + ": key '" + path + "'" + supplied_note(path) + ": expected " + expected);
 }
 void JsonReader::fail_got(const std::string& path, const std::string& expected, const json& got) const {
-  throw InputError(origin(path) + ": key '" + path + "': expected " + expected + ", got " +
+  throw InputError(origin(path) + ": key '" + path + "'" + supplied_note(path) + ": expected " + expected + ", got " +
                    got.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 

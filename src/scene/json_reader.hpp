@@ -50,6 +50,10 @@ class JsonReader {
   }
   // "FILE" or "--set 'KEY=VALUE' (scene FILE)": where the value at `path` came from.
   std::string origin(const std::string& path) const;
+  // Puts `value` at `path`, a key the scene leaves out, as the default of the set-up `setup` (top-level
+  // `setup`, issue 35; scene/parse_scene.cpp). An error about the key then says that the set-up gave it.
+  void supply(const std::string& path, const json& value, const std::string& setup);
+  const std::vector<std::string>& supplied() const { return supplied_; }
 
   void check_unknown() const;
   [[noreturn]] void fail(const std::string& path, const std::string& expected) const;
@@ -76,6 +80,10 @@ class JsonReader {
   std::set<std::string> known_subtrees_;
   std::vector<std::pair<std::string, std::string>> overrides_;  // (KEY, "KEY=VALUE")
   std::map<std::string, std::set<std::string>> expected_;
+  std::vector<std::string> supplied_;  // keys the set-up filled in (supply())
+  std::string setup_;                  // the set-up that filled them
+  // " (not in the scene: ...)" when `path` is (under) a key the set-up supplied, else ""
+  std::string supplied_note(const std::string& path) const;
 };
 
 // "a.b.0.c" -> JSON pointer "/a/b/0/c"

@@ -1,4 +1,5 @@
 // Scene schema: every key, its default, range and unit. docs/scene.md mirrors this file.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -17,7 +18,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string at(const std::string& base, const std::string& key) { return base + "." + key; }
 
-BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
+// `wall_layers`: the default of a boundary body's `layers` (1, or under the engineering set-up the kernel
+// support in spacings for a pressure wall; apply_setup below)
+BodySpec parse_body(JsonReader& r, const std::string& base, int dim, int wall_layers) {
   r.expect_keys(base, {"kind", "shape", "min", "max", "open", "layers", "center", "radius", "points", "velocities",
                        "velocity", "initial_pressure", "free_surface", "pressures", "mesh", "fill", "layer_side",
                        "transform", "section", "clip_min", "clip_max", "allow_self_intersections", "motion"});
@@ -82,6 +85,7 @@ BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
     if (!b.mesh.contains("mesh")) r.fail(at(base, "mesh"), "a mesh file path (relative to the scene file)");
   }
   if (b.kind == "boundary") {
+    if (wall_layers > 1 && !r.has(at(base, "layers"))) r.supply(at(base, "layers"), wall_layers, "engineering");
     b.layers = int(r.integer(at(base, "layers"), 1, 1, 16));
     // validated with its law by sim/boundary_motion.cpp (errors name bodies.N.motion.KEY)
     if (r.raw(at(base, "motion"))) b.motion = r.subtree(at(base, "motion"), json());  // null: fixed
@@ -99,6 +103,38 @@ BodySpec parse_body(JsonReader& r, const std::string& base, int dim) {
   return b;
 }
 
+// The set-up (top-level `setup`, issue 35; docs/scene.md "Set-up"): the defaults of the method keys a scene
+// leaves out. "engineering" (the default) is the recommended set-up of pipelines/engineering_2d.json and
+// engineering_3d.json (README "The recommended engineering set-up"); "paper" is the seed paper's, the
+// defaults of the tables in docs/scene.md, which is what every scene ran with before the key existed. A key
+// the scene (or --set) names always wins; the set-up fills in, key by key, only what is left out, so a scene
+// can change one choice and keep the rest. The pressure dissipation is one choice, not a key: the set-up's
+// Riemann solver only where the scene names none of physics.riemann, artificial_viscosity and
+// density_diffusion (a key set to null names "none", as `varsph study --ablate` does). Returns the set-up.
+std::string apply_setup(JsonReader& r) {
+  const std::string setup = r.choice("setup", "engineering", {"engineering", "paper"});
+  if (setup == "paper") return setup;
+  const auto block_open = [&](const std::string& block) {  // absent, null or an object (else: its own error)
+    const json* b = r.raw(block);
+    return !b || b->is_null() || b->is_object();
+  };
+  if (block_open("kernel")) {
+    if (!r.has("kernel.type")) r.supply("kernel.type", "wendland_c2", setup);
+    const json* t = r.raw("kernel.type");
+    if (t->is_string() && t->get<std::string>() == "wendland_c2" && !r.has("kernel.h") && !r.has("kernel.h_over_dx"))
+      r.supply("kernel.h_over_dx", 1.414, setup);  // DualSPHysics' 2D h (README, docs/validation.md 16)
+  }
+  if (block_open("physics") && !r.raw("physics.riemann") && !r.raw("physics.artificial_viscosity") &&
+      !r.raw("physics.density_diffusion"))
+    r.supply("physics.riemann", json::object(), setup);  // Zhang, Hu & Adams 2017, eta 3
+  if (block_open("boundary") && !r.has("boundary.model")) r.supply("boundary.model", "dummy_adami", setup);
+  if (block_open("integrator")) {
+    if (!r.has("integrator.type")) r.supply("integrator.type", "symplectic_euler", setup);
+    if (!r.has("integrator.dt") && !r.has("integrator.cfl")) r.supply("integrator.cfl", 0.2, setup);
+  }
+  return setup;
+}
+
 }  // namespace
 
 Scene parse_scene_json(json root, const std::filesystem::path& file, const std::vector<std::string>& overrides) {
@@ -107,11 +143,13 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   for (const auto& o : overrides) apply_override(root, o, fname);
   JsonReader r(std::move(root), fname);
   r.note_overrides(overrides);
+  const std::string setup = apply_setup(r);
   r.expect_keys("physics", {"density", "artificial_viscosity", "laminar_viscosity", "body_force", "xsph", "damping",
                             "damping_zone", "gravity_ramp", "density_diffusion", "riemann", "tensile_instability", "shepard_reinit",
                             "shifting"});
   Scene s;
   s.file = file;
+  s.setup = setup;
   s.name = r.text("name", std::nullopt);
   if (s.name.empty() || s.name.find_first_of("/\\ ") != std::string::npos)
     r.fail_got("name", "a non-empty name without spaces or slashes", json(s.name));
@@ -148,12 +186,21 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.gravity = r.vector("gravity", d, std::vector<double>(d, 0.0), "gravitational acceleration [m/s^2]");
   s.rho0 = r.positive("fluid.rho0", 1000.0, "rest density rho0 [kg/m^3]");
 
+  // a boundary body's `layers`: 1 (the paper's repulsive walls need no more); under the engineering set-up a
+  // pressure wall (every model but "repulsive") is as deep as the kernel's support, ceil(kappa h / dx) layers,
+  // so that a fluid particle at the wall sees a full support of wall particles
+  int wall_layers = 1;
+  if (setup == "engineering") {
+    const json* model = r.raw("boundary.model");
+    if (model && model->is_string() && model->get<std::string>() != "repulsive")
+      wall_layers = int(std::clamp(std::ceil(kernels::kappa_of(s.kernel) * s.h / s.spacing - 1e-9), 1.0, 16.0));
+  }
   const std::size_t nb = r.array_size("bodies");
   if (nb == 0) r.fail("bodies", "a non-empty list of bodies (at least one with kind \"fluid\")");
   bool any_fluid = false;
   double fluid_height = 0;
   for (std::size_t k = 0; k < nb; ++k) {
-    s.bodies.push_back(parse_body(r, "bodies." + std::to_string(k), d));
+    s.bodies.push_back(parse_body(r, "bodies." + std::to_string(k), d, wall_layers));
     const BodySpec& b = s.bodies.back();
     if (b.kind == "fluid") {
       any_fluid = true;
@@ -383,6 +430,7 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   s.device = r.choice("execution.device", "cpu", {"cpu", "cuda", "cuda_emulation"});
 
   r.check_unknown();
+  s.setup_supplied = r.supplied();
   s.resolved = r.resolved();
   (void)check_sanity(s);  // errors stop here; the commands ask again for the warnings
   return s;

@@ -105,6 +105,10 @@ struct OpenZoneSpec {
 struct Scene {
   std::filesystem::path file;
   nlohmann::json resolved;  // every parameter with its value (defaults filled in)
+  // top-level `setup` (issue 35): "engineering" (default) or "paper", the defaults of the method keys a scene
+  // leaves out (scene/parse_scene.cpp apply_setup, docs/scene.md "Set-up"), and the keys it filled in
+  std::string setup = "engineering";
+  std::vector<std::string> setup_supplied;
 
   std::string name;
   int dimension = 2;

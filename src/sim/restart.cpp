@@ -58,7 +58,8 @@ bool in_snapshot(const FieldBase& f) { return f.flags().checkpointed || f.name()
 }  // namespace
 
 bool restart_may_change(const std::string& k) {
-  return k == "time.end" || k == "particles.max_count" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
+  // `setup` (issue 35) only names where the method keys' values came from; the values themselves are compared
+  return k == "setup" || k == "time.end" || k == "particles.max_count" || k == "output" || starts_with(k, "output.") || k == "checkpoint" ||
          starts_with(k, "checkpoint.") || k == "probes" || starts_with(k, "probes.") || k == "log" ||
          starts_with(k, "log.") || k == "parallel" || starts_with(k, "parallel.") || k == "execution" ||
          starts_with(k, "execution.");  // cpu <-> cuda restarts

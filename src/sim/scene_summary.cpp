@@ -38,6 +38,7 @@ std::string describe(const scene::Scene& s) {
   const double support = double(sim.rates().support());
   o << "scene              " << s.name << " (" << s.file.string() << ")\n"
     << "dimension          " << D << "\n"
+    << "setup              " << setup_line(s) << "\n"
     << "particles          " << sim.count(0) << " fluid, " << sim.count(1) << " boundary\n"
     << "dx                 " << s.spacing << " m\n"
     << "kernel             " << kernels::to_string(s.kernel) << ", h = " << s.h << " m (h/dx = " << s.h / s.spacing
@@ -103,5 +104,13 @@ std::string describe(const scene::Scene& s) {
 }  // namespace
 
 std::string describe_scene(const scene::Scene& s) { return s.dimension == 2 ? describe<2>(s) : describe<3>(s); }
+
+std::string setup_line(const scene::Scene& s) {
+  std::string keys;
+  for (const auto& k : s.setup_supplied) keys += (keys.empty() ? "" : ", ") + k;
+  if (s.setup == "paper") return "paper (the paper's defaults for the method keys the scene leaves out; docs/scene.md \"Set-up\")";
+  return s.setup + (keys.empty() ? " (the scene names every method key)"
+                                 : " (filled in: " + keys + "; docs/scene.md \"Set-up\")");
+}
 
 }  // namespace varsph

@@ -22,11 +22,14 @@ const std::vector<std::string> kBoundaryModels = {"repulsive", "dynamic", "dummy
 const std::vector<std::string> kIntegrators = {"verlet", "variational", "symplectic_euler", "predictor_corrector",
                                                "rk4", "verlet_dsph"};
 
-bool present_in_scene(const LevelSpec& base, const std::string& key) {
+// Whether the base scene runs with the term: the scene names it, or its set-up supplies it (the engineering
+// set-up's physics.riemann; issue 35), so that the variant switches it off with KEY=null.
+bool present_in_scene(const LevelSpec& base, const scene::Scene& s, const std::string& key) {
   auto root = scene::read_json_file(base.scene);
   for (const auto& o : base.overrides) scene::apply_override(root, o, base.scene.string());
   const auto ptr = scene::pointer_of(key);
-  return root.contains(ptr) && !root.at(ptr).is_null();
+  if (root.contains(ptr) && !root.at(ptr).is_null()) return true;
+  return std::find(s.setup_supplied.begin(), s.setup_supplied.end(), key) != s.setup_supplied.end();
 }
 
 }  // namespace
@@ -73,7 +76,7 @@ std::vector<AblationVariant> ablation_variants(const std::vector<std::string>& i
       const std::string other = s.density == "continuity" ? "summation" : "continuity";
       vs.push_back({item, "physics.density = " + other, {"physics.density=" + other}, true});
     } else if (item.rfind("physics.", 0) == 0 && item.size() > 8) {
-      if (present_in_scene(base, item)) vs.push_back({item, "without " + item, {item + "=null"}});
+      if (present_in_scene(base, s, item)) vs.push_back({item, "without " + item, {item + "=null"}});
       else vs.push_back({item, "with " + item + " (its defaults)", {item + "={}"}});
     } else {
       throw InputError("--ablate " + item + ": expected a physics.* term, gravity, boundary.model, integrator.type, "

@@ -27,7 +27,7 @@ json free_body_scene(int dim) {
   json j;
   if (dim == 2) {
     j = json::parse(R"({
-      "name": "free_body", "dimension": 2,
+      "name": "free_body", "setup": "paper", "dimension": 2,
       "domain": {"min": [-0.1, -0.1], "max": [2.0, 2.0]}, "particles": {"spacing": 0.02},
       "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "gravity": [0, -9.81],
       "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [0.2, 0.1], "initial_pressure": "hydrostatic"},
@@ -37,7 +37,7 @@ json free_body_scene(int dim) {
       "integrator": {"type": "symplectic_euler", "dt": 1e-4}, "time": {"end": 1}})");
   } else {
     j = json::parse(R"({
-      "name": "free_body", "dimension": 3,
+      "name": "free_body", "setup": "paper", "dimension": 3,
       "domain": {"min": [-0.1, -0.1, -0.1], "max": [1.5, 1.5, 1.5]}, "particles": {"spacing": 0.04},
       "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "gravity": [0, 0, 0],
       "fluid": {"c0": 10},
@@ -55,7 +55,7 @@ json free_body_scene(int dim) {
 // system of fluid and bodies exchanging momentum through the wall model and through contact.
 json periodic_scene() {
   return json::parse(R"({
-    "name": "periodic_bodies", "dimension": 2,
+    "name": "periodic_bodies", "setup": "paper", "dimension": 2,
     "domain": {"min": [0, 0], "max": [0.4, 0.3], "periodic": [true, true]}, "particles": {"spacing": 0.01},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "fluid": {"c0": 15},
     "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [0.4, 0.3]},

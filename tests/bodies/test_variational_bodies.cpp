@@ -23,7 +23,7 @@ namespace {
 // under the variational integrator with the given wall model.
 json periodic_variational(const std::string& model, double alpha) {
   json j = json::parse(R"({
-    "name": "periodic_bodies_variational", "dimension": 2,
+    "name": "periodic_bodies_variational", "setup": "paper", "dimension": 2,
     "domain": {"min": [0, 0], "max": [0.4, 0.3], "periodic": [true, true]}, "particles": {"spacing": 0.01},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "fluid": {"c0": 15},
     "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [0.4, 0.3]},

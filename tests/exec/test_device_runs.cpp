@@ -127,6 +127,31 @@ TEST(DeviceRuns, FramesDiagnosticsProbesAndCheckpointsMatchTheCpu) {
   EXPECT_NE(run_json.find("\"device\": \"cuda_emulation\""), std::string::npos);
 }
 
+TEST(DeviceRuns, ASceneWithoutMethodKeysRunsTheEngineeringSetUpAsOnTheCpu) {
+  // issue 35: the default set-up (Wendland C2, Riemann dissipation, dummy walls, symplectic Euler at CFL 0.2)
+  // runs on the device; a 2D dam break naming no method keys, 0.03 s on the CPU and through the host launch
+  const auto dir = test::scratch_dir("device_runs_setup");
+  const auto scene = dir / "plain.json";
+  std::ofstream(scene) << R"({"name": "plain", "dimension": 2, "domain": {"min": [-0.1, -0.1], "max": [0.5, 0.4]},
+    "particles": {"spacing": 0.01}, "gravity": [0, -9.81],
+    "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [0.1, 0.2]},
+               {"kind": "boundary", "shape": "tank", "min": [0, 0], "max": [0.4, 0.3]}],
+    "time": {"end": 0.03}, "output": {"every": 0.01}})";
+  auto r = test::run_command(exe() + " run " + q(scene) + " -o " + q(dir / "cpu") + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = test::run_command(exe() + " run " + q(scene) + " -o " + q(dir / "dev") + " --quiet --device cuda_emulation");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  expect_same_table(dir / "cpu" / "diagnostics.csv", dir / "dev" / "diagnostics.csv", kTolRel);
+  std::filesystem::path last;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "cpu" / "checkpoints"))
+    if (e.path().extension() == ".h5" && e.path().filename() > last.filename()) last = e.path();
+  ASSERT_FALSE(last.empty());
+  EXPECT_LE(max_position_difference(last, dir / "dev" / "checkpoints" / last.filename()), 2 * kTolX);  // kTolX is for dx = 0.005 m
+  const auto run_json = test::read_text(dir / "dev" / "run.json");
+  for (const char* want : {"\"setup\": \"engineering\"", "\"wendland_c2\"", "\"dummy_adami\"", "\"symplectic_euler\""})
+    EXPECT_NE(run_json.find(want), std::string::npos) << want;
+}
+
 TEST(DeviceRuns, RestartMovesBetweenCpuAndDevice) {
   const auto dir = test::scratch_dir("device_runs_restart");
   for (const char* integrator : {"verlet", "variational"}) {

@@ -342,7 +342,7 @@ TEST(Variational, ThreeDimensionalPeriodicBoxConvergesAndConservesMomentum) {
         vel.push_back({0.5 * N(rng), 0.5 * N(rng), 0.5 * N(rng)});
       }
   nlohmann::json j = {{"name", "box3"},
-                      {"dimension", 3},
+                      {"setup", "paper"}, {"dimension", 3},
                       {"domain", {{"min", {0.0, 0.0, 0.0}}, {"max", {L, L, L}}, {"periodic", {true, true, true}}}},
                       {"particles", {{"spacing", dx}}},
                       {"fluid", {{"c0", 10.0}}},

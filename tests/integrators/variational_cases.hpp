@@ -33,7 +33,7 @@ inline nlohmann::json lattice_scene(int n, double u, bool periodic, double alpha
     }
   nlohmann::json s = {
       {"name", "lattice"},
-      {"dimension", 2},
+      {"setup", "paper"}, {"dimension", 2},
       {"domain", periodic ? nlohmann::json{{"min", {0.0, 0.0}}, {"max", {L, L}}, {"periodic", {true, true}}}
                           : nlohmann::json{{"min", {-1.0, -1.0}}, {"max", {1.0, 1.0}}}},
       {"particles", {{"spacing", dx}}},

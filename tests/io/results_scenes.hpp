@@ -13,7 +13,7 @@ namespace varsph::test {
 inline nlohmann::json tiny_dam_break(const std::string& integrator = "verlet") {
   return nlohmann::json::parse(R"({
     "name": "tiny",
-    "dimension": 2,
+    "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.1, -0.1], "max": [0.5, 0.4]},
     "particles": {"spacing": 0.02},
     "kernel": {"type": "gaussian", "h_over_dx": 1.2},

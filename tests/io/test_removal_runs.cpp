@@ -26,7 +26,7 @@ std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 nlohmann::json thrown_block() {
   return nlohmann::json::parse(R"({
     "name": "thrown",
-    "dimension": 2,
+    "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.1, -0.1], "max": [0.4, 0.22]},
     "particles": {"spacing": 0.02},
     "kernel": {"type": "gaussian", "h_over_dx": 1.2},

@@ -162,7 +162,7 @@ TEST(MpiRuns, HaloOverlapOnAndOffEqualOneProcessBitwise) {
 // 2D periodic shear layer (no walls, no gravity): two fluid slabs moving against each other.
 nlohmann::json shear_box() {
   return nlohmann::json::parse(R"({
-    "name": "shear", "dimension": 2,
+    "name": "shear", "setup": "paper", "dimension": 2,
     "domain": {"min": [0.0, 0.0], "max": [1.0, 1.0], "periodic": [true, true]},
     "particles": {"spacing": 0.025},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},
@@ -215,7 +215,7 @@ TEST(MpiRuns, TaylorGreenWithGlobalSpeedShiftingEqualsOneProcessBitwise) {
 // boundaries, the edges and corners where several ranks meet, and the periodic corners.
 nlohmann::json diagonal_cube() {
   return nlohmann::json::parse(R"({
-    "name": "corners", "dimension": 3,
+    "name": "corners", "setup": "paper", "dimension": 3,
     "domain": {"min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 1.0], "periodic": [true, true, true]},
     "particles": {"spacing": 0.0625},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},

@@ -41,7 +41,7 @@ json noisy_box() {
   const int n = 20;
   const double dx = 0.05, L = n * dx;
   return {{"name", "riemann_box"},
-          {"dimension", 2},
+          {"setup", "paper"}, {"dimension", 2},
           {"domain", {{"min", {0.0, 0.0}}, {"max", {L, L}}, {"periodic", {true, true}}}},
           {"particles", {{"spacing", dx}}},
           {"kernel", {{"type", "wendland_c2"}, {"h_over_dx", 1.5}}},
@@ -96,7 +96,7 @@ TEST(Riemann, PeriodicBoxConservesMomentumDissipatesEnergyAndIsThreadCountIndepe
 TEST(Riemann, VerletDsphsLeapfrogDensityUpdateAmplifiesItsDissipationSoTheCombinationIsRefused) {
   const json dam = {
       {"name", "riemann_dam"},
-      {"dimension", 2},
+      {"setup", "paper"}, {"dimension", 2},
       {"domain", {{"min", {-0.2, -0.2}}, {"max", {4.2, 3.5}}}},
       {"particles", {{"spacing", 0.04}}},
       {"kernel", {{"type", "wendland_c2"}, {"h_over_dx", 1.414}}},

@@ -21,7 +21,7 @@ constexpr double kDx = 0.05;
 json periodic_lattice(int n, double U, const std::string& integrator = "verlet") {
   const double L = n * kDx;
   return {{"name", "shift_lattice"},
-          {"dimension", 2},
+          {"setup", "paper"}, {"dimension", 2},
           {"domain", {{"min", {0.0, 0.0}}, {"max", {L, L}}, {"periodic", {true, true}}}},
           {"particles", {{"spacing", kDx}}},
           {"kernel", {{"type", "wendland_c2"}, {"h_over_dx", 1.3}}},

@@ -140,7 +140,7 @@ nlohmann::json periodic_box(int dim, int n) {
       }
   std::vector<double> zero(dim, 0.0), box(dim, L);
   return {{"name", "periodic_box"},
-          {"dimension", dim},
+          {"setup", "paper"}, {"dimension", dim},
           {"domain", {{"min", zero}, {"max", box}, {"periodic", std::vector<bool>(dim, true)}}},
           {"particles", {{"spacing", dx}}},
           {"kernel", {{"type", "wendland_c2"}, {"h_over_dx", 1.5}}},

@@ -12,7 +12,7 @@ namespace {
 
 json base() {
   return json::parse(R"({
-    "name": "t", "dimension": 2,
+    "name": "t", "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.1, -0.1], "max": [1, 1]},
     "particles": {"spacing": 0.02},
     "gravity": [0, -9.81],

@@ -16,7 +16,7 @@ namespace {
 json periodic_box(int n, double dx, double c0, double t_end) {
   const double L = n * dx;
   return {{"name", "periodic_box"},
-          {"dimension", 2},
+          {"setup", "paper"}, {"dimension", 2},
           {"domain", {{"min", {0.0, 0.0}}, {"max", {L, L}}, {"periodic", {true, true}}}},
           {"particles", {{"spacing", dx}}},
           {"kernel", {{"type", "gaussian"}, {"h_over_dx", 1.2}}},
@@ -53,7 +53,7 @@ double poiseuille(double y, double t, double F, double nu, double L) {
 json poiseuille_scene(const std::string& slip) {
   const double L = 1.0, dx = L / 20, Lx = 12 * dx;
   return {{"name", "poiseuille"},
-          {"dimension", 2},
+          {"setup", "paper"}, {"dimension", 2},
           {"domain", {{"min", {0.0, -5 * dx}}, {"max", {Lx, L + 5 * dx}}, {"periodic", {true, false}}}},
           {"particles", {{"spacing", dx}}},
           {"kernel", {{"type", "gaussian"}, {"h_over_dx", 1.2}}},

@@ -49,7 +49,7 @@ double impact_min_height(const std::string& model) {
   const int layers = model == "repulsive" ? 1 : 4;
   const double pad = (layers + 1) * dx;
   json j = {{"name", "impact"},
-            {"dimension", 2},
+            {"setup", "paper"}, {"dimension", 2},
             {"domain", {{"min", {-pad, -pad}}, {"max", {0.4 + pad, 0.5 + pad}}}},
             {"particles", {{"spacing", dx}}},
             {"kernel", {{"type", "gaussian"}, {"h_over_dx", 1.2}}},

@@ -24,7 +24,7 @@ json settled_tank(const std::string& model, const std::string& extrapolation = "
   for (double x : {0.1, 0.2, 0.3})
     probes.push_back({{"type", "pressure"}, {"name", "F" + std::to_string(int(x * 1000))}, {"point", {x, 0.0}}});
   json j = {{"name", "wall_pressure"},
-            {"dimension", 2},
+            {"setup", "paper"}, {"dimension", 2},
             {"domain", {{"min", {-0.06, -0.06}}, {"max", {kW + 0.06, 0.5}}}},
             {"particles", {{"spacing", kDx}}},
             {"kernel", {{"type", "wendland_c2"}, {"h_over_dx", 1.5}}},
@@ -84,7 +84,7 @@ double impact_closest_approach(const std::string& model) {
   const int layers = 4;
   const double pad = (layers + 1) * kDx;
   json j = {{"name", "impact10"},
-            {"dimension", 2},
+            {"setup", "paper"}, {"dimension", 2},
             {"domain", {{"min", {-pad, -pad}}, {"max", {0.4 + pad, 0.5 + pad}}}},
             {"particles", {{"spacing", kDx}}},
             {"kernel", {{"type", "wendland_c2"}, {"h_over_dx", 1.5}}},

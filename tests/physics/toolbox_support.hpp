@@ -21,7 +21,7 @@ inline json tank_scene(double W, double H, double dx, const std::string& model, 
   const double pad = (layers + 1) * dx;
   json j = {
       {"name", "toolbox_tank"},
-      {"dimension", 2},
+      {"setup", "paper"}, {"dimension", 2},
       {"domain", {{"min", {-pad, -pad}}, {"max", {W + pad, 1.6 * H + pad}}}},
       {"particles", {{"spacing", dx}}},
       {"kernel", {{"type", "gaussian"}, {"h_over_dx", 1.2}}},

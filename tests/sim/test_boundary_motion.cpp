@@ -17,7 +17,7 @@ namespace {
 
 json tank_scene(const json& motion) {
   json j = json::parse(R"({
-    "name": "moving", "dimension": 2,
+    "name": "moving", "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.2, -0.2], "max": [0.6, 0.5]},
     "particles": {"spacing": 0.01},
     "gravity": [0, -9.81],

@@ -151,7 +151,7 @@ TEST(Cases, OneAndTwoThreadsGiveBitwiseIdenticalResults) {
 TEST(Cases, ParticleThrownAtTheWallAtDamBreakSpeedDoesNotPassIt) {
   // PAPER-NOTES.md: eq. (58) with D = 2 g H stops a particle at sqrt(2 g H) = 2.4 m/s
   auto j = nlohmann::json::parse(R"({
-    "name": "impact", "dimension": 2,
+    "name": "impact", "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.05, -0.05], "max": [0.2, 0.2]},
     "particles": {"spacing": 0.005},
     "gravity": [0, -9.8],
@@ -175,7 +175,7 @@ TEST(Cases, ParticleThrownAtTheWallAtDamBreakSpeedDoesNotPassIt) {
 TEST(Cases, GivenInitialPressuresAndBackgroundPressureAreHonoured) {
   // points with initial pressures: rho from the inverse of eq. (11); p = B((rho/rho0)^7 - 1) + p_b
   auto j = nlohmann::json::parse(R"({
-    "name": "pressures", "dimension": 2,
+    "name": "pressures", "setup": "paper", "dimension": 2,
     "domain": {"min": [-1, -1], "max": [1, 1]},
     "particles": {"spacing": 0.1},
     "fluid": {"c0": 10, "background_pressure": 50},

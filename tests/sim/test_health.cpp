@@ -29,7 +29,7 @@ namespace {
 // dynamic walls, gravity on, fixed dt. `patch` overrides keys (--set syntax).
 scene::Scene block_scene(const std::vector<std::string>& sets = {}) {
   const auto j = nlohmann::json::parse(R"({
-    "name": "block", "dimension": 2,
+    "name": "block", "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.1, -0.1], "max": [0.4, 0.4]},
     "particles": {"spacing": 0.02},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},

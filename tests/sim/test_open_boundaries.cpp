@@ -30,7 +30,7 @@ namespace {
 // cross both interfaces within a few hundred steps: nu = 0.01, u = 1 m/s, c0 = 20 m/s, fixed dt.
 nlohmann::json channel_json() {
   return nlohmann::json::parse(R"({
-    "name": "open_channel", "dimension": 2,
+    "name": "open_channel", "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.6, -0.6], "max": [1.6, 1.6]},
     "particles": {"spacing": 0.1},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},

@@ -25,7 +25,7 @@ void write_cube(const std::filesystem::path& path) {
 }
 
 json cube_scene(const json& transform) {
-  return {{"name", "cube"}, {"dimension", 3},
+  return {{"name", "cube"}, {"setup", "paper"}, {"dimension", 3},
           {"domain", {{"min", {-3, -3, -3}}, {"max", {3, 3, 3}}}},
           {"particles", {{"spacing", 0.1}}}, {"gravity", {0, 0, -9.81}},
           {"bodies", {{{"kind", "fluid"}, {"shape", "box"}, {"min", {-2.5, -2.5, -2.5}}, {"max", {-2.3, -2.3, -2.3}}},

@@ -39,7 +39,7 @@ json order_scene(const std::string& density) {
   }
   const std::vector<double> lo(D, 0.0), hi(D, kL);
   return {{"name", "order"},
-          {"dimension", D},
+          {"setup", "paper"}, {"dimension", D},
           {"domain", {{"min", lo}, {"max", hi}, {"periodic", std::vector<bool>(D, true)}}},
           {"particles", {{"spacing", kDx}}},
           // exact kernel: the tabulated one (default) is piecewise interpolated, its derivatives are not

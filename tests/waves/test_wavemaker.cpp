@@ -32,7 +32,7 @@ constexpr double kDepth = 0.1, kDx = 0.01;
 // paddle (body 3) a block of three layers left of the water. The engineering set-up (docs/validation.md).
 json flume(const json& motion) {
   json j = json::parse(R"({
-    "name": "flume", "dimension": 2,
+    "name": "flume", "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.3, -0.1], "max": [1.2, 0.4]}, "particles": {"spacing": 0.01},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "gravity": [0, -9.81],
     "physics": {"riemann": {}}, "boundary": {"model": "dummy_adami"},
@@ -185,7 +185,7 @@ TEST(DampingZone, InTheSolverDampsTheFluidBeyondFromAndNothingElse) {
   // a periodic stream without gravity: uniform, so the pair forces vanish and one step multiplies each
   // fluid velocity by the zone's factor at its new position
   json j = json::parse(R"({
-    "name": "stream", "dimension": 2,
+    "name": "stream", "setup": "paper", "dimension": 2,
     "domain": {"min": [0, 0], "max": [0.4, 0.2], "periodic": [true, true]}, "particles": {"spacing": 0.01},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "fluid": {"c0": 10},
     "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [0.4, 0.2], "velocity": [0.5, 0]}],
@@ -262,7 +262,7 @@ TEST(Wavemaker, ARestartContinuesBitwise) {
 TEST(Wavemaker, FlapIn3DTurnsAboutTheYAxisTopTowardsPlusX) {
   // a basin section 0.16 m wide, periodic across (y); vertical z; the flap hinged on the bed at x = -0.015
   json j = json::parse(R"({
-    "name": "basin", "dimension": 3,
+    "name": "basin", "setup": "paper", "dimension": 3,
     "domain": {"min": [-0.2, 0, -0.1], "max": [0.7, 0.16, 0.3], "periodic": [false, true, false]},
     "particles": {"spacing": 0.02},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "gravity": [0, 0, -9.81],
