@@ -104,6 +104,14 @@ class Domain {
   // Keeps the owned rows `kept` (strictly ascending; their order tags stay) and drops every ghost: particle
   // removal (health.*). The caller then calls rebin() on every rank, which rebuilds the ghosts.
   void compact_owned(ParticleStore& store, std::span<const std::uint32_t> kept);
+  // Drops every ghost and appends copies of the owned rows `src` (every field) as new owned rows; their order
+  // tags put them after every existing particle, in the order `order` (ascending: the new particles' places
+  // among all created this step on all ranks), as one process appends created particles at the end of its
+  // store before its next sort (open boundaries). Returns the first new row. The caller then calls rebin()
+  // on every rank.
+  std::size_t append_owned(ParticleStore& store, std::span<const std::uint32_t> src, std::span<const std::int64_t> order);
+  // The order tag of owned row i (its cell and place at the last rebin: the serial storage order).
+  std::int64_t order_tag(std::size_t i) const { return (*tag_)[i]; }
 
   // Collective. Wraps periodic positions (and the position-like fields), migrates, orders, exchanges
   // ghosts and writes the grid's blocks and ranges. `grid` must be a configured uniform grid over the

@@ -13,6 +13,8 @@
 #include "core/errors.hpp"
 #include "kernels/kernel_eval.hpp"
 #include "physics/corrected_interpolation.hpp"
+#include "parallel/domain.hpp"
+#include "parallel/halo_rates.hpp"
 #include "physics/pair_loop.hpp"
 
 namespace varsph {
@@ -59,6 +61,10 @@ class GhostFit {
     sol_.template bottomRows<D>() *= inv_s_;
     return true;
   }
+  using Solution = Eigen::Matrix<double, D + 1, F>;
+  const Solution& solution() const { return sol_; }
+  // a solution computed elsewhere (the rank that owns the ghost node: several MPI ranks)
+  void set_solution(const Solution& s) { sol_ = s; }
   double value(int field) const { return sol_(0, field); }
   Eigen::Matrix<double, D, 1> gradient(int field) const { return sol_.col(field).template tail<D>(); }
 
@@ -428,39 +434,92 @@ void OpenBoundaries<D>::place_buffers(Simulation<D>& sim) {
   team_single([&] { placed_ = true; });
 }
 
+namespace {
+
+// One transition of one particle, keyed by its place in the serial storage order (its index in one process,
+// its order tag on several ranks), so that the flows are summed and the created particles numbered in the
+// order one process would use, whatever the rank count.
+struct Transition {
+  std::uint64_t key;
+  double mass_in, mass_out;
+  std::int32_t removed_outlet, removed, created, pad;
+};
+
+// Every rank's transitions, sorted by key (unique: a tag belongs to one owned particle). One process: its own.
+std::vector<Transition> all_transitions(parallel::Communicator& comm, const std::vector<Transition>& mine) {
+  std::vector<Transition> all;
+  if (comm.size() == 1) {
+    all = mine;
+  } else {
+    const auto counts = comm.allgather(std::int64_t(mine.size()));
+    const int me = comm.rank(), P = comm.size();
+    std::vector<std::vector<Transition>> in(static_cast<std::size_t>(P));
+    std::vector<parallel::Message> out_m, in_m;
+    for (int q = 0; q < P; ++q) {
+      if (q == me) continue;
+      if (!mine.empty())
+        out_m.push_back({q, reinterpret_cast<std::byte*>(const_cast<Transition*>(mine.data())), mine.size() * sizeof(Transition)});
+      in[std::size_t(q)].resize(std::size_t(counts[std::size_t(q)]));
+      if (!in[std::size_t(q)].empty())
+        in_m.push_back({q, reinterpret_cast<std::byte*>(in[std::size_t(q)].data()), in[std::size_t(q)].size() * sizeof(Transition)});
+    }
+    comm.exchange(out_m, in_m);
+    for (int q = 0; q < P; ++q) {
+      const auto& v = q == me ? mine : in[std::size_t(q)];
+      all.insert(all.end(), v.begin(), v.end());
+    }
+  }
+  std::sort(all.begin(), all.end(), [](const Transition& a, const Transition& b) { return a.key < b.key; });
+  return all;
+}
+
+}  // namespace
+
 template <int D>
 void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
   auto& f = sim.fields();
   auto& flow = sim.flow();
+  parallel::Domain<D>* dom = sim.domain();
   auto t0 = std::chrono::steady_clock::now();
   // the buffer particles were placed before the drift's sort (place_buffers); an integrator that did not
   // sort leaves them to be placed here, and the grid to be rebuilt below
   const bool unplaced = !placed_;
   if (unplaced) place_buffers(sim);
   stepping_ = false;
-  // transitions, serially in storage order (the same decisions and sums on any thread count)
+  // transitions of the owned particles in storage order; the flows and the creation order below follow the
+  // serial storage order across ranks (the same decisions and sums on any thread and rank count)
   created_src_.clear();
   created_zone_.clear();
   removed_.clear();
+  std::vector<Transition> mine;
+  std::vector<std::uint64_t> created_keys;
   const std::size_t n = sim.size();
   std::int32_t* zone = zone_->data.data();
   for (std::size_t i = 0; i < n; ++i) {
     if (f.kind[i] != 0) continue;
+    Transition e{dom ? std::uint64_t(dom->order_tag(i)) : std::uint64_t(i), 0.0, 0.0, 0, 0, 0, 0};
+    bool any = false;
     const std::int32_t zi = zone[i];
     if (zi >= 0) {
       const Zone& z = zones_[std::size_t(zi)];
       const Real d = distance(z, f.x[i]);
       if (d >= 0) {  // crossed the interface into the fluid
         zone[i] = -1;
-        flow.mass_in += double(f.mass[i]);
+        e.mass_in = double(f.mass[i]);
+        any = true;
         if (z.inlet) {
           created_src_.push_back(std::uint32_t(i));
           created_zone_.push_back(zi);
+          created_keys.push_back(e.key);
+          e.created = 1;
         }
       } else if (d < -z.depth) {  // left the zone through its outer face
         removed_.push_back(std::uint32_t(i));
-        if (!z.inlet) ++flow.removed_outlet;
+        e.removed = 1;
+        e.removed_outlet = z.inlet ? 0 : 1;
+        any = true;
       }
+      if (any) mine.push_back(e);
       continue;
     }
     for (std::size_t k = 0; k < zones_.size(); ++k) {
@@ -468,24 +527,45 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
       if (!beside(z, f.x[i])) continue;
       const Real d = distance(z, f.x[i]);
       if (d >= 0) continue;
+      any = true;
       if (z.inlet) {  // backflow into an inlet (near its walls, where the inflow vanishes): leaves the domain
         removed_.push_back(std::uint32_t(i));
-        flow.mass_out_outlet += double(f.mass[i]);
-        ++flow.removed_outlet;
+        e.mass_out = double(f.mass[i]);
+        e.removed = e.removed_outlet = 1;
         break;
       }
       zone[i] = std::int32_t(k);  // fluid entering an outlet zone becomes a buffer particle
-      flow.mass_out_outlet += double(f.mass[i]);
+      e.mass_out = double(f.mass[i]);
       if (d < -z.depth) {  // jumped the whole zone in one step
         removed_.push_back(std::uint32_t(i));
-        ++flow.removed_outlet;
+        e.removed = e.removed_outlet = 1;
       }
       break;
     }
+    if (any) mine.push_back(e);
   }
-  const bool changed = unplaced || !created_src_.empty() || !removed_.empty();
-  if (!created_src_.empty()) {  // a copy one zone depth upstream takes each crossing particle's place
-    const std::size_t first = sim.create_particles(created_src_);
+  // the flows in serial order; each created particle's place in the serial creation order
+  const std::vector<Transition> all = all_transitions(sim.comm(), mine);
+  std::int64_t created_total = 0, removed_total = 0;
+  order_.clear();
+  std::size_t p = 0;
+  for (const Transition& e : all) {
+    flow.mass_in += e.mass_in;
+    flow.mass_out_outlet += e.mass_out;
+    flow.removed_outlet += e.removed_outlet;
+    removed_total += e.removed;
+    if (e.created) {
+      if (p < created_keys.size() && created_keys[p] == e.key) {
+        order_.push_back(created_total);
+        ++p;
+      }
+      ++created_total;
+    }
+  }
+  if (p != created_keys.size()) throw std::logic_error("OpenBoundaries: a created particle lost in the ordering");
+  const bool changed = unplaced || created_total > 0 || removed_total > 0;
+  if (created_total > 0) {  // a copy one zone depth upstream takes each crossing particle's place
+    const std::size_t first = sim.create_particles(created_src_, order_, created_total);
     const double t = sim.time();
     for (std::size_t c = 0; c < created_src_.size(); ++c) {
       const std::size_t i = first + c;
@@ -498,21 +578,23 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
       f.v[i] = inflow(z, f.x[i], t);
       f.body[i] = -1;
     }
-    flow.created += long(created_src_.size());
+    flow.created += long(created_total);
   }
   if (!removed_.empty()) {  // removed_ is ascending (storage order) and below the created copies
     kept_.clear();
     std::size_t r = 0;
-    for (std::uint32_t i = 0; i < std::uint32_t(sim.store().size()); ++i) {
+    const std::size_t total = dom ? sim.size() : sim.store().size();  // owned (ghosts are rebuilt by the rebin)
+    for (std::uint32_t i = 0; i < std::uint32_t(total); ++i) {
       if (r < removed_.size() && removed_[r] == i) {
         ++r;
         continue;
       }
       kept_.push_back(i);
     }
-    sim.store().compact(kept_);
+    if (dom) dom->compact_owned(sim.store(), kept_);
+    else sim.store().compact(kept_);
   }
-  if (changed) {
+  if (changed) {  // every rank alike (the totals are global)
     sim.recount_kinds();
     sim.rebin();  // the sort and the grid for the new set of particles
   }
@@ -522,16 +604,32 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
   impose_seconds_ += seconds_since(t0);
 }
 
+namespace {
+
+// A ghost node's first-order fit asked of the rank that owns its cell (several MPI ranks), and the answer.
+template <int D>
+struct FitRequest {
+  Vec<D> xg;
+};
+template <int D>
+struct FitAnswer {
+  typename GhostFit<D>::Solution sol;
+  std::int32_t ok, pad;
+};
+
+}  // namespace
+
 template <int D>
 void OpenBoundaries<D>::impose(Simulation<D>& sim) {
   auto& f = sim.fields();
   const auto& s = scene_;
+  parallel::Domain<D>* dom = sim.domain();
   const std::size_t n = sim.size();
   buffer_idx_.clear();
   const std::int32_t* zone = zone_->data.data();
   for (std::size_t i = 0; i < n; ++i)
     if (zone[i] >= 0) buffer_idx_.push_back(std::uint32_t(i));
-  buffers_ = buffer_idx_.size();
+  buffers_ = dom ? std::size_t(sim.comm().sum(std::int64_t(buffer_idx_.size()))) : buffer_idx_.size();
   const kernels::AnyKernel<D> W(s.kernel, s.h, s.kernel_l);
   const Real support = W.support();
   const auto eos = sim.eos();
@@ -544,6 +642,89 @@ void OpenBoundaries<D>::impose(Simulation<D>& sim) {
   Real* p = f.p.data.data();
   const Real* mass = f.mass.data.data();
   const std::int32_t* kind = f.kind.data.data();
+  // the ghost node: the buffer particle's mirror image across the interface, inside the fluid
+  const auto ghost_node = [&](std::size_t i) {
+    const Zone& z = zones_[std::size_t(zone[i])];
+    Vec<D> xg = x[i];
+    xg[z.axis] = Real(2) * z.face - x[i][z.axis];
+    return xg;
+  };
+  const auto needs_fit = [&](std::size_t i) {
+    const Zone& z = zones_[std::size_t(zone[i])];
+    return z.spec->pressure_extrapolated || !z.inlet;
+  };
+  // the first-order fit at a ghost node from the fluid particles around it (grid valid; ghosts current)
+  const auto fit_at = [&](const Vec<D>& xg, GhostFit<D>& fit) {
+    grid.for_each_near(xg, f.x.data, support, [&](std::uint32_t j, const Vec<D>& xgj) {
+      if (kind[j] != 0 || zone[j] >= 0) return;
+      const auto k = W(xgj.norm());
+      if (k.w <= 0) return;
+      fit.add(xgj, double(k.w), double(k.grad_factor), double(mass[j]) / double(rho[j]), double(rho[j]), v[j]);
+    });
+    return fit.solve();
+  };
+  // several ranks: a ghost node lies up to two zone depths from its buffer particle, beyond the halo, so the
+  // rank that owns its cell fits it (all its neighbours are there, in the serial order) and sends the solution
+  std::vector<char> remote(buffer_idx_.size(), 0);
+  std::vector<FitAnswer<D>> answers(dom ? buffer_idx_.size() : 0);
+  if (dom) {
+    std::vector<parallel::HaloArray> arrays;  // the fluid's values after the step, and the buffer tags
+    parallel::collect_view(sim.current_view(), parallel::kHaloPositions | parallel::kHaloVelocities | parallel::kHaloState,
+                           arrays);
+    arrays.push_back({zone_->data.data(), sizeof(std::int32_t), zone_->data.size()});
+    dom->refresh(arrays);
+    auto& comm = sim.comm();
+    const int P = comm.size(), me = comm.rank();
+    std::vector<std::vector<FitRequest<D>>> req_out(static_cast<std::size_t>(P));
+    std::vector<std::vector<std::size_t>> req_of(static_cast<std::size_t>(P));  // which buffer entry each request is
+    for (std::size_t b = 0; b < buffer_idx_.size(); ++b) {
+      const std::size_t i = idx[b];
+      if (!needs_fit(i)) continue;
+      const Vec<D> xg = ghost_node(i);
+      const int q = dom->partition().owner(dom->cell_of(xg));
+      if (q == me) continue;
+      remote[b] = 1;
+      req_out[std::size_t(q)].push_back({xg});
+      req_of[std::size_t(q)].push_back(b);
+    }
+    std::vector<std::int64_t> counts(static_cast<std::size_t>(P));
+    for (int q = 0; q < P; ++q) counts[std::size_t(q)] = std::int64_t(req_out[std::size_t(q)].size());
+    const auto in_counts = comm.alltoall(counts);
+    std::vector<std::vector<FitRequest<D>>> req_in(static_cast<std::size_t>(P));
+    std::vector<parallel::Message> out_m, in_m;
+    for (int q = 0; q < P; ++q) {
+      auto& o = req_out[std::size_t(q)];
+      if (!o.empty()) out_m.push_back({q, reinterpret_cast<std::byte*>(o.data()), o.size() * sizeof(FitRequest<D>)});
+      auto& in = req_in[std::size_t(q)];
+      in.resize(std::size_t(in_counts[std::size_t(q)]));
+      if (!in.empty()) in_m.push_back({q, reinterpret_cast<std::byte*>(in.data()), in.size() * sizeof(FitRequest<D>)});
+    }
+    comm.exchange(out_m, in_m);
+    std::vector<std::vector<FitAnswer<D>>> ans_out(static_cast<std::size_t>(P)), ans_in(static_cast<std::size_t>(P));
+    for (int q = 0; q < P; ++q) {
+      const auto& in = req_in[std::size_t(q)];
+      auto& a = ans_out[std::size_t(q)];
+      a.resize(in.size());
+      for_each_particle(in.size(), [&](std::size_t k) {  // each answer its own slot
+        GhostFit<D> fit{double(support)};
+        a[k].ok = fit_at(in[k].xg, fit) ? 1 : 0;
+        a[k].pad = 0;
+        a[k].sol = fit.solution();
+      });
+    }
+    out_m.clear();
+    in_m.clear();
+    for (int q = 0; q < P; ++q) {
+      auto& o = ans_out[std::size_t(q)];
+      if (!o.empty()) out_m.push_back({q, reinterpret_cast<std::byte*>(o.data()), o.size() * sizeof(FitAnswer<D>)});
+      auto& in = ans_in[std::size_t(q)];
+      in.resize(req_out[std::size_t(q)].size());
+      if (!in.empty()) in_m.push_back({q, reinterpret_cast<std::byte*>(in.data()), in.size() * sizeof(FitAnswer<D>)});
+    }
+    comm.exchange(out_m, in_m);
+    for (int q = 0; q < P; ++q)
+      for (std::size_t k = 0; k < ans_in[std::size_t(q)].size(); ++k) answers[req_of[std::size_t(q)][k]] = ans_in[std::size_t(q)][k];
+  }
   // each buffer particle writes its own slots and reads only fluid particles (never written here)
   for_each_particle(buffer_idx_.size(), [&](std::size_t b) {
     const std::size_t i = idx[b];
@@ -553,17 +734,16 @@ void OpenBoundaries<D>::impose(Simulation<D>& sim) {
     Vec<D> vi = z.inlet ? inflow(z, x[i], t) : v[i];
     Real rhoi = z.rho_prescribed;
     if (need_rho || need_v) {
-      // ghost node: the buffer particle's mirror image across the interface, inside the fluid
-      Vec<D> xg = x[i];
-      xg[z.axis] = Real(2) * z.face - x[i][z.axis];
+      const Vec<D> xg = ghost_node(i);
       GhostFit<D> fit{double(support)};
-      grid.for_each_near(xg, f.x.data, support, [&](std::uint32_t j, const Vec<D>& xgj) {
-        if (kind[j] != 0 || zone[j] >= 0) return;
-        const auto k = W(xgj.norm());
-        if (k.w <= 0) return;
-        fit.add(xgj, double(k.w), double(k.grad_factor), double(mass[j]) / double(rho[j]), double(rho[j]), v[j]);
-      });
-      if (fit.solve()) {
+      bool ok;
+      if (remote[b]) {
+        ok = answers[b].ok != 0;
+        fit.set_solution(answers[b].sol);
+      } else {
+        ok = fit_at(xg, fit);
+      }
+      if (ok) {
         // density to first order: rho_g + (x - x_g) . grad rho_g (Tafuni 2018 eq. 20)
         if (need_rho) rhoi = Real(fit.value(0) + fit.gradient(0).dot((x[i] - xg).template cast<double>()));
         // velocity with zero gradient: the ghost node's value (Tafuni 2018 eq. 21)

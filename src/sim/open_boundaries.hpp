@@ -30,7 +30,11 @@
 //  - Mass balance (Simulation::flow()): mass enters when a buffer particle becomes fluid, leaves when a
 //    fluid particle becomes a buffer particle or is removed by a health rule.
 // Everything is deterministic and independent of the thread count (per-particle writes, serial
-// transitions). Not available on several MPI ranks nor on the device (refused at start, naming the key).
+// transitions). On several MPI ranks the same bits as one process: the transitions are keyed by the particles'
+// order tags (the serial storage order), so the flows are summed and created particles numbered (ids, and
+// tags that sort them after every existing particle) as one process does; a buffer particle whose ghost node
+// lies in another rank's cells has its fit computed there (all its neighbours are there, in the serial order)
+// and sent back. Not available on the device (refused at start, naming the key).
 #include <cstdint>
 #include <vector>
 
@@ -94,6 +98,7 @@ class OpenBoundaries {
   Field<Vec<D>>* v0_;
   std::vector<std::uint32_t> created_src_, removed_, kept_, buffer_idx_;
   std::vector<std::int32_t> created_zone_;
+  std::vector<std::int64_t> order_;  // each created particle's place in this step's serial creation order
   std::size_t buffers_ = 0;
   bool stepping_ = false;  // between before_step and after_step
   bool placed_ = false;    // place_buffers ran in this step (else after_step places them and rebins)

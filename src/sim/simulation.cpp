@@ -112,7 +112,12 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
   }
   if (params_.boundary == physics::BoundaryModel::DummyAdami ||
       params_.boundary == physics::BoundaryModel::SoftRepulsive || params_.boundary == physics::BoundaryModel::Mdbc)
+  {
     wall_v_ = &store_.add<Vec<D>>("wall_velocity", {.exported = true});  // checkpointed: restarts stay bitwise
+    // never written on fluid particles: zero, not what a resize of Eigen vectors leaves (uninitialised memory,
+    // other bits in a distributed run; open boundaries' lattices copy a fluid particle's)
+    for (auto& w : wall_v_->data) w.setZero();
+  }
   if (params_.boundary == physics::BoundaryModel::Mdbc) {
     // distance of each boundary particle to the fluid-wall interface: its ghost node sits at twice that
     wall_distance_ = &store_.add<Real>("wall_distance", {.exported = false});
@@ -171,9 +176,6 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     if (comm_->size() > 1 && scene.output_static_boundary != "every_frame")  // one static file, not pieces
       throw InputError(scene.file.string() + ": key 'output.static_boundary': \"once\" is written by one process "
                        "only; run it in one process or set \"every_frame\"");
-    if (comm_->size() > 1 && !scene.open_boundaries.empty())  // created particles are not migrated bitwise yet
-      throw InputError(scene.file.string() + ": key 'open_boundaries': inlets and outlets are not available on several "
-                       "MPI ranks yet (docs/open_boundaries.md, Limits); run this scene in one process");
     if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
       // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
       throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
@@ -191,9 +193,10 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     o.weights_by_cost = scene.weights_by_cost;
     domain_ = std::make_unique<parallel::Domain<D>>(comm_, o);
     domain_->attach(store_, {"position", "velocity", "density", "pressure", "mass", "kind", "id", "normal", "body",
-                             "wall_velocity"});
+                             "wall_velocity", "open_zone"});
     const std::size_t P = std::size_t(comm_->size()), r = std::size_t(comm_->rank());
-    const std::size_t first = n * r / P, last = n * (r + 1) / P;
+    const std::size_t all = store_.size();  // built particles, with the open boundaries' lattices
+    const std::size_t first = all * r / P, last = all * (r + 1) / P;
     for (const auto& fb : store_.fields()) {
       const std::size_t b = fb->bytes_per_particle();
       auto* raw = static_cast<std::byte*>(fb->raw());
@@ -319,10 +322,20 @@ void Simulation<D>::recount_kinds() {
 
 template <int D>
 std::size_t Simulation<D>::create_particles(std::span<const std::uint32_t> src) {
-  if (domain_) throw std::logic_error("Simulation::create_particles: not on several ranks");
+  if (domain_) throw std::logic_error("Simulation::create_particles: give the creation order on several ranks");
   if (store_.size() + src.size() >= std::size_t(UINT32_MAX)) throw NumericalError("too many particles created");
   const std::size_t first = store_.append_copies(src);
   for (std::size_t k = 0; k < src.size(); ++k) f_.id[first + k] = next_id_++;
+  return first;
+}
+
+template <int D>
+std::size_t Simulation<D>::create_particles(std::span<const std::uint32_t> src, std::span<const std::int64_t> order,
+                                            std::int64_t total) {
+  if (store_.size() + src.size() >= std::size_t(UINT32_MAX)) throw NumericalError("too many particles created");
+  const std::size_t first = domain_ ? domain_->append_owned(store_, src, order) : store_.append_copies(src);
+  for (std::size_t k = 0; k < src.size(); ++k) f_.id[first + k] = next_id_ + order[k];
+  next_id_ += total;
   return first;
 }
 

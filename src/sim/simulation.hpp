@@ -227,8 +227,15 @@ class Simulation {
   // --- particle creation and the mass balance (ARCHITECTURE.md "open boundaries") ------------------
   // Appends copies of the particles src (every registered field, ParticleStore::append_copies) with new
   // ids from the run's one counter; returns the index of the first copy. The caller places them, then
-  // recounts and rebins. One process only (open boundaries are refused on several ranks).
+  // recounts and rebins. One process only.
   std::size_t create_particles(std::span<const std::uint32_t> src);
+  // The same on any number of ranks (every rank calls it, maybe with none): `order[k]` is copy k's place
+  // among the `total` particles created this step on all ranks, in the order one process would create
+  // them (ascending); its id is next_id() + order[k], and the counter advances by `total` on every rank,
+  // so ids do not depend on the rank count. Distributed: the ghosts are dropped (Domain::append_owned) and
+  // the caller rebins on every rank.
+  std::size_t create_particles(std::span<const std::uint32_t> src, std::span<const std::int64_t> order,
+                               std::int64_t total);
   std::int64_t next_id() const { return next_id_; }
   // Inlets and outlets (scene `open_boundaries`); null when the scene has none.
   OpenBoundaries<D>* open_boundaries() { return open_.get(); }
