@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "io/checkpoint.hpp"
 #include "test_support.hpp"
 
@@ -136,6 +138,40 @@ inline Csv read_csv(const std::filesystem::path& p) {
     first = false;
   }
   return t;
+}
+
+// diagnostics.csv and probes.csv of a run on `ranks` ranks against the serial run: maxima of equal states
+// exactly, sums over ranks (energies, momenta, probes) to round-off.
+inline void expect_same_tables(const std::filesystem::path& serial, const std::filesystem::path& run, int ranks) {
+  const Csv a = read_csv(serial / "diagnostics.csv"), b = read_csv(run / "diagnostics.csv");
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  // imbalance, then the open-boundary and mass-balance columns appended after it (issue 32), then the
+  // rigid bodies' five (issue 30)
+  ASSERT_GE(b.header.size(), 13u);
+  ASSERT_EQ(b.header[b.header.size() - 13], "imbalance");
+  ASSERT_EQ(b.header[b.header.size() - 6], "mass_balance");
+  ASSERT_EQ(b.header.back(), "bodies_potential_energy");
+  for (std::size_t r = 0; r < a.rows.size(); ++r) {
+    for (const char* exact : {"frame", "step", "time", "dt", "max_speed", "density_error_max"})
+      EXPECT_EQ(a.value(r, exact), b.value(r, exact)) << exact << ", row " << r;  // maxima of equal states
+    // sums over ranks are added in another order: equal to round-off (1e-12 of the sum of magnitudes)
+    const double scale = std::abs(a.value(r, "kinetic_energy")) + std::abs(a.value(r, "potential_energy")) +
+                         std::abs(a.value(r, "internal_energy")) + 1e-300;
+    for (const char* sum : {"kinetic_energy", "potential_energy", "internal_energy"})
+      EXPECT_NEAR(a.value(r, sum), b.value(r, sum), 1e-12 * scale) << sum << ", row " << r;
+    for (const char* m : {"momentum_x", "momentum_y"})
+      EXPECT_NEAR(a.value(r, m), b.value(r, m), 1e-12 * (1 + std::abs(a.value(r, m)))) << m << ", row " << r;
+    EXPECT_GE(b.value(r, "imbalance"), 1.0);
+    EXPECT_EQ(a.value(r, "imbalance"), 1.0);
+  }
+  const Csv pa = read_csv(serial / "probes.csv"), pb = read_csv(run / "probes.csv");
+  ASSERT_EQ(pa.rows.size(), pb.rows.size());
+  ASSERT_EQ(pa.header, pb.header);
+  for (std::size_t r = 0; r < pa.rows.size(); ++r)
+    for (const auto& c : pa.header) {
+      const double x = pa.value(r, c), y = pb.value(r, c);
+      EXPECT_NEAR(x, y, 1e-10 * (1 + std::abs(x))) << "probes.csv " << c << ", row " << r << ", " << ranks << " ranks";
+    }
 }
 
 }  // namespace varsph::test

@@ -104,6 +104,62 @@ TEST(MpiRuns, OpenBoundariesOnTwoThreeAndSixRanksEqualOneProcessBitwise) {
   }
 }
 
+// Wavemakers and the damping zone (issue 31, docs/waves.md): a small 2D flume (water 1 m x 0.1 m, dx = 1 cm,
+// 1000 fluid particles, dummy walls with the paddle's acceleration), a piston and a flap paddle moving from the
+// first step (no ramp) and a damping zone over the far half, 300 steps; a water-height gauge and the paddle's
+// force. On 2 and 3 ranks (the flume cut into 2 and 3 boxes): one process's particle states bit for bit,
+// diagnostics.csv and probes.csv to round-off (expect_same_tables). Not vacuous: the zone and the paddle's
+// motion each change the serial state.
+TEST(MpiRuns, WavemakerAndDampingZoneOnTwoAndThreeRanksEqualOneProcessBitwise) {
+  for (const char* paddle : {"piston", "flap"}) {
+    nlohmann::json j = nlohmann::json::parse(R"({
+      "name": "flume", "setup": "paper", "dimension": 2,
+      "domain": {"min": [-0.3, -0.1], "max": [1.2, 0.4]}, "particles": {"spacing": 0.01},
+      "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "gravity": [0, -9.81],
+      "physics": {"riemann": {}, "damping_zone": {"from": [0.5, 0], "to": [1.0, 0], "beta": 10}},
+      "boundary": {"model": "dummy_adami"},
+      "integrator": {"type": "symplectic_euler", "cfl": 0.2}, "time": {"end": 1},
+      "output": {"precision": "float64"},
+      "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [1.0, 0.1], "initial_pressure": "hydrostatic"},
+                 {"kind": "boundary", "shape": "box", "min": [-0.25, -0.03], "max": [1.03, 0], "layers": 3},
+                 {"kind": "boundary", "shape": "box", "min": [1.0, 0], "max": [1.03, 0.2], "layers": 3},
+                 {"kind": "boundary", "shape": "box", "min": [-0.03, 0], "max": [0, 0.16], "layers": 3}],
+      "probes": [{"type": "water_height", "name": "g1", "from": [0.3, 0.0]},
+                 {"type": "force", "name": "paddle", "body": 3}]})");
+    j["bodies"][3]["motion"] = {{"type", paddle}, {"waves", "regular"}, {"height", 0.01}, {"period", 0.5}, {"ramp", 0}};
+    if (std::string(paddle) == "flap") j["bodies"][3]["motion"]["hinge"] = {-0.015, 0.0};
+    const std::string tag = std::string("waves_") + paddle;
+    const auto dir = scratch_dir("mpi_" + tag);
+    const auto scene = write_scene(dir, j);
+    // about 300 steps (CFL 0.2: dt ~ 2e-4 s)
+    const std::string args = "--set time.end=0.06 --set output.every=0.03 --set output.probes_every=0.003";
+    const auto serial = run_varsph(0, scene, dir / "serial", args);
+    ASSERT_EQ(serial.exit_code, 0) << serial.output;
+    const auto steps = nlohmann::json::parse(read_text(dir / "serial" / "run.json")).at("timings").at("steps").get<long>();
+    EXPECT_GE(steps, 250) << tag;
+    // not vacuous: without the zone, or with the paddle held still, the serial state is another
+    for (const char* without : {"damping_zone", "motion"}) {
+      nlohmann::json k = j;
+      if (std::string(without) == "motion") k["bodies"][3].erase("motion");
+      else k["physics"].erase("damping_zone");
+      const auto other = dir / (std::string("serial_without_") + without);
+      const auto r = run_varsph(0, write_scene(scratch_dir("mpi_" + tag + "_" + without), k), other, args);
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      EXPECT_GT(compare_states(last_checkpoint(dir / "serial"), last_checkpoint(other)).differing, 100) << without;
+    }
+    for (int n : {2, 3}) {
+      const auto out = dir / ("ranks" + std::to_string(n));
+      const auto r = run_varsph(n, scene, out, args);
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      const StateDiff d = compare_states(last_checkpoint(dir / "serial"), last_checkpoint(out));
+      EXPECT_TRUE(d.same_header) << tag << ", " << n << " ranks";
+      EXPECT_GT(d.particles, 1000);
+      EXPECT_EQ(d.differing, 0) << tag << ", " << n << " ranks: " << d.first << " (max |diff| " << d.max_abs << ")";
+      expect_same_tables(dir / "serial", out, n);
+    }
+  }
+}
+
 #ifdef VARSPH_TEST_HAVE_GEOMETRY  // mesh bodies: a build without the geometry module refuses them (exit 2)
 TEST(MpiRuns, DamBreak3DOnTwoToFourRanksEqualsOneProcessBitwise) {
   // SPHERIC test 2 (mesh tank and obstacle, dynamic walls, CFL-adaptive dt) at dx = 8 cm: ~210 steps
