@@ -6,7 +6,9 @@ with the hydrostatic pressure at the body, while the fixed disc's buoyancy stays
 with it (see --field). A benchmark, not a test: it prints a table.
 
   python3 bench/bodies/added_mass_depth.py [--varsph build/release/bin/varsph] [--threads 1] [--t-end 0.1]
-      [--out runs/added_mass_depth] [--field]      (--field: near-body fluid velocity at t_end; needs pvpython's vtk)
+      [--out runs/added_mass_depth] [--field] [--set KEY=VALUE ...]
+      (--field: near-body fluid velocity at t_end, needs pvpython's vtk; --set: applied to every case, e.g.
+       --set kernel.h_over_dx=1.7, the wider kernel that weakens the lattice's hold, docs/validation.md section 18)
 """
 import argparse, csv, math, os, subprocess, sys
 
@@ -63,14 +65,15 @@ def main():
     ap.add_argument("--t-end", type=float, default=0.1)
     ap.add_argument("--out", default=os.path.join(ROOT, "runs", "added_mass_depth"))
     ap.add_argument("--field", action="store_true")
+    ap.add_argument("--set", action="append", default=[], help="scene override for every case (repeatable)")
     a = ap.parse_args()
     print("case            p at centre [kPa]  a fitted [m/s^2]  error vs 0.892   mean fluid Fy [N/m]  v(t)/t"
           + ("   ring v / U" if a.field else ""))
     for name, depth, sets in CASES:
         run = os.path.join(a.out, name.replace(" ", "_").replace(",", "").replace(".", "p"))
-        cmd = [a.varsph, "run", SCENE, "-o", run, "--quiet", "--threads", str(a.threads),
+        cmd = [a.varsph, "run", SCENE, "-o", run, "--quiet", "--overwrite", "--threads", str(a.threads),
                "--set", "time.end=%g" % a.t_end, "--set", "output.every=%g" % a.t_end]
-        for s in sets:
+        for s in a.set + sets:
             cmd += ["--set", s]
         subprocess.run(cmd, check=True)
         acc, fy, v, t = fit(run)

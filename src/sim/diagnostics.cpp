@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "bodies/rigid_bodies.hpp"
 #include "parallel/communicator.hpp"
 
 namespace varsph {
@@ -67,6 +68,19 @@ Diagnostics compute_diagnostics(const Simulation<D>& sim) {
     d.momentum_Q = std::sqrt(q2) / double(n_fluid);
   }
   d.angular_momentum = D == 2 ? L[2] : std::sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
+  if (const auto* rb = sim.rigid_bodies()) {  // every rank holds every body's state (RigidBodies::reduce_loads)
+    const Eigen::Vector3d P = rb->momentum();
+    for (int a = 0; a < 3; ++a) d.bodies_momentum[std::size_t(a)] = P[a];
+    d.bodies_kinetic_energy = rb->kinetic_energy();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero(), x0 = Eigen::Vector3d::Zero();
+    for (int a = 0; a < D; ++a) {
+      g[a] = double(sim.params().gravity[a]);
+      x0[a] = s.domain_min[std::size_t(a)];
+    }
+    double mass = 0;
+    for (const auto& b : rb->bodies()) mass += b.mp.mass;
+    d.bodies_potential_energy = rb->potential_energy(g) + mass * g.dot(x0);
+  }
   return d;
 }
 

@@ -16,6 +16,11 @@ struct Diagnostics {
   double internal_energy = 0;        // sum m pi(rho), d pi / d rho = p / rho^2 (seed eq. 16-17)
   double max_speed = 0;
   double density_error_max = 0;      // max |rho / rho0 - 1|
+  // rigid bodies (issue 30; zero without them): sum M V, translational + rotational kinetic energy and
+  // - sum M g . (X - domain.min), the same reference as the fluid's, so fluid + bodies is the system's ledger
+  std::array<double, 3> bodies_momentum{};
+  double bodies_kinetic_energy = 0;
+  double bodies_potential_energy = 0;
 };
 
 template <int D>

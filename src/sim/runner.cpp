@@ -61,7 +61,9 @@ const std::vector<std::string> kDiagnosticColumns = {
     // particles created at inlets and removed at outlets since the start, buffer particles now, fluid mass
     // in and out since the start (out: outlets and health removals), fluid mass in the domain now, and
     // mass_in - mass_out - (fluid_mass - fluid_mass at t = 0), which closes to round-off
-    "particles_created", "removed_outlet", "buffer_particles", "mass_in", "mass_out", "fluid_mass", "mass_balance"};
+    "particles_created", "removed_outlet", "buffer_particles", "mass_in", "mass_out", "fluid_mass", "mass_balance",
+    // rigid bodies (issue 30; zeros without them): their momentum, kinetic and potential energy (sim/diagnostics.hpp)
+    "bodies_momentum_x", "bodies_momentum_y", "bodies_momentum_z", "bodies_kinetic_energy", "bodies_potential_energy"};
 
 const std::vector<std::string> kRemovedColumns = {
     "time", "step", "id", "rule", "x", "y", "z", "vx", "vy", "vz", "density", "pressure", "fluid_neighbours",
@@ -621,6 +623,9 @@ class Runner {
       row.push_back(CsvTable::num(m));
       row.push_back(CsvTable::num(fl.mass_in - fl.mass_out() - (m - fl.mass0)));
     }
+    for (const double p : d.bodies_momentum) row.push_back(CsvTable::num(p));
+    row.push_back(CsvTable::num(d.bodies_kinetic_energy));
+    row.push_back(CsvTable::num(d.bodies_potential_energy));
     on_root([&] { diag_.row(row); });
     fp_steps_ = 0;
     fp_iter_sum_ = 0;

@@ -11,6 +11,7 @@
 
 #include "bodies/rigid_bodies.hpp"
 #include "scene/scene.hpp"
+#include "sim/diagnostics.hpp"
 #include "sim/simulation.hpp"
 #include "test_support.hpp"
 
@@ -136,5 +137,42 @@ TEST(VariationalBodies, TheFluidCarriesAFloatingBox) {
     std::printf("variational, %s: mean fluid force %.2f N/m, weight %.2f N/m, centre %.4f m, %ld steps\n",
                 model.c_str(), sum / w, weight, b.x.y(), sim.step());
     EXPECT_NEAR(sum / w / weight, 1.0, 0.05) << model;
+  }
+}
+
+// Issue 30 point 5, energy beside momentum: the ledger diagnostics.csv writes (fluid kinetic + Tait internal
+// energy + the bodies' kinetic energy; no gravity here) in the isolated periodic box, while the disc gives
+// more than half its energy to the water. Symplectic Euler without any dissipation term keeps it within a few
+// per cent (the dynamic walls' own compression energy is not in the ledger); with artificial viscosity it
+// falls. The variational integrator keeps the momentum to round-off (above) but its coupling loses energy:
+// the bodies sit at q_k through the fixed point and are advanced by a leapfrog after it, outside the
+// discrete variational principle (measured and printed; docs/bodies.md) - it must at least never create any.
+TEST(VariationalBodies, TheCoupledEnergyLedgerNeverGrowsAndItsLossIsBounded) {
+  struct Case { const char* integrator; bool viscous; };  // (with AV 0.1: -22.5 % / 0 and -27.1 % / 0)
+  for (const Case c : {Case{"symplectic_euler", false}, Case{"variational", false}}) {
+    json j = periodic_variational("dynamic", 0.5);
+    if (!c.viscous) j.erase("physics");
+    if (std::string(c.integrator) == "symplectic_euler") j["integrator"] = {{"type", "symplectic_euler"}, {"cfl", 0.2}};
+    Simulation<2> sim(scene::parse_scene_json(j, "periodic.json"));
+    const auto ledger = [&] {
+      const Diagnostics d = compute_diagnostics(sim);
+      return d.kinetic_energy + d.internal_energy + d.bodies_kinetic_energy;
+    };
+    const double E0 = ledger(), Eb0 = compute_diagnostics(sim).bodies_kinetic_energy;
+    double lo = E0, hi = E0;
+    while (sim.time() < 0.025) {
+      sim.advance();
+      const double E = ledger();
+      lo = std::min(lo, E);
+      hi = std::max(hi, E);
+    }
+    const double Eb = compute_diagnostics(sim).bodies_kinetic_energy;
+    std::printf("%s, %s: E0 %.6g J/m, over %ld steps E in [%+.3g %%, %+.3g %%] of E0; bodies' kinetic %.4g -> %.4g\n",
+                c.integrator, c.viscous ? "artificial viscosity 0.1" : "no dissipation term", E0, sim.step(),
+                100 * (lo / E0 - 1), 100 * (hi / E0 - 1), Eb0, Eb);
+    EXPECT_LT(Eb, 0.6 * Eb0) << c.integrator;  // the exchange was real: the disc gave most of its energy away
+    // measured on 2026-11-27: symplectic Euler -6.95 % / +0.12 %, variational -11.4 % / +8e-8 %
+    EXPECT_GT(lo, E0 * (std::string(c.integrator) == "variational" ? 0.85 : 0.9)) << c.integrator;
+    EXPECT_LT(hi, E0 * (std::string(c.integrator) == "variational" ? 1 + 1e-6 : 1.01)) << c.integrator;
   }
 }

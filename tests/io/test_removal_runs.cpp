@@ -111,7 +111,7 @@ TEST(RemovalRuns, WaterLeavingTheDomainIsRemovedCountedAndTheRunGoesOn) {
   const auto diag = lines(run / "diagnostics.csv");
   const auto head = cells(diag[0]);
   // then `imbalance` (runs on several MPI ranks, docs/parallel.md) and the open-boundary flows (issue 32)
-  ASSERT_EQ(head.size(), 32u);
+  ASSERT_EQ(head.size(), 37u);  // ... then the rigid bodies' five (issue 30)
   EXPECT_EQ(head[19], "dt_bound");
   EXPECT_EQ(head[20], "fluid_particles");
   EXPECT_EQ(head[21], "removed_domain");
@@ -120,6 +120,7 @@ TEST(RemovalRuns, WaterLeavingTheDomainIsRemovedCountedAndTheRunGoesOn) {
   EXPECT_EQ(head[24], "imbalance");
   EXPECT_EQ(head[25], "particles_created");
   EXPECT_EQ(head[31], "mass_balance");
+  EXPECT_EQ(head[36], "bodies_potential_energy");
   long last_removed = 0;
   for (std::size_t k = 1; k < diag.size(); ++k) {
     const auto c = cells(diag[k]);

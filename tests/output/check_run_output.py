@@ -63,7 +63,8 @@ expected = ("frame,step,time,dt,momentum_x,momentum_y,momentum_z,momentum_Q,angu
             "potential_energy,internal_energy,max_speed,density_error_max,wall_seconds,fp_iterations_mean,"
             "fp_iterations_max,fp_residual_max,fp_contraction_max,dt_bound,"
             "fluid_particles,removed_domain,removed_density,removed_speed,imbalance,"
-            "particles_created,removed_outlet,buffer_particles,mass_in,mass_out,fluid_mass,mass_balance").split(",")
+            "particles_created,removed_outlet,buffer_particles,mass_in,mass_out,fluid_mass,mass_balance,"
+            "bodies_momentum_x,bodies_momentum_y,bodies_momentum_z,bodies_kinetic_energy,bodies_potential_energy").split(",")
 check(rows[0] == expected, "diagnostics.csv header %s" % rows[0])
 check(len(rows) - 1 == n_frames, "diagnostics.csv has %d rows, expected %d" % (len(rows) - 1, n_frames))
 check(all(int(r[20]) == n_fluid and r[21:24] == ["0", "0", "0"] for r in rows[1:]),
