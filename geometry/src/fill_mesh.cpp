@@ -82,4 +82,20 @@ Eigen::MatrixXd fill_mesh(const TriangleMesh& tm, double dx, const Eigen::Vector
   return X;
 }
 
+Eigen::VectorXi points_inside_mesh(const TriangleMesh& tm, const Eigen::MatrixXd& points) {
+  Mesh mesh;
+  std::vector<Mesh::Vertex_index> vs;
+  for (int i = 0; i < tm.V.rows(); ++i) vs.push_back(mesh.add_vertex(Point(tm.V(i, 0), tm.V(i, 1), tm.V(i, 2))));
+  for (int f = 0; f < tm.F.rows(); ++f) mesh.add_face(vs[tm.F(f, 0)], vs[tm.F(f, 1)], vs[tm.F(f, 2)]);
+  CGAL::Side_of_triangle_mesh<Mesh, K> inside(mesh);
+  const Eigen::Vector3d lo = tm.V.colwise().minCoeff().transpose(), hi = tm.V.colwise().maxCoeff().transpose();
+  Eigen::VectorXi flag = Eigen::VectorXi::Zero(points.rows());
+  for (Eigen::Index k = 0; k < points.rows(); ++k) {
+    const Eigen::Vector3d p = points.row(k).transpose();
+    if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;  // outside the box: outside
+    flag[k] = inside(Point(p.x(), p.y(), p.z())) == CGAL::ON_BOUNDED_SIDE ? 1 : 0;
+  }
+  return flag;
+}
+
 }  // namespace varsph::geometry

@@ -16,6 +16,7 @@
 #include "scene/key_suggest.hpp"
 
 #ifdef VARSPH_HAVE_GEOMETRY
+#include "varsph/geometry/fill_mesh.h"
 #include "varsph/geometry/geometry_error.h"
 #include "varsph/geometry/read_mesh.h"
 #include "varsph/geometry/sample_body.h"
@@ -190,6 +191,29 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_parti
 }
 
 template <int D>
+std::vector<char> inside_mesh_body(const scene::Scene& s, std::size_t index, const std::vector<Vec<D>>& points) {
+  const json& m = s.bodies[index].mesh;
+  if (D == 2 || m.contains("section") || points.empty()) return {};
+  const std::string where = s.file.string() + ": bodies." + std::to_string(index);
+  std::vector<std::string> notes;
+  geometry::TriangleMesh mesh;
+  try {
+    mesh = geometry::read_mesh(s.file.parent_path() / m["mesh"].get<std::string>(),
+                               transform_of(m.contains("transform") ? m["transform"] : json(), where, D), false, notes);
+  } catch (const geometry::GeometryError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+  if (mesh.border_edges > 0) return {};
+  Eigen::MatrixXd P(Eigen::Index(points.size()), 3);
+  for (std::size_t k = 0; k < points.size(); ++k)
+    for (int a = 0; a < 3; ++a) P(Eigen::Index(k), a) = double(points[k][a < D ? a : 0]);
+  const Eigen::VectorXi in = geometry::points_inside_mesh(mesh, P);
+  std::vector<char> out(points.size());
+  for (std::size_t k = 0; k < points.size(); ++k) out[k] = char(in[Eigen::Index(k)]);
+  return out;
+}
+
+template <int D>
 bodies::MassProperties mesh_mass_properties(const scene::Scene& s, std::size_t index) {
   const scene::BodySpec& b = s.bodies[index];
   const std::string where = s.file.string() + ": bodies." + std::to_string(index);
@@ -220,6 +244,11 @@ bodies::MassProperties mesh_mass_properties(const scene::Scene& s, std::size_t i
 #else
 
 template <int D>
+std::vector<char> inside_mesh_body(const scene::Scene&, std::size_t, const std::vector<Vec<D>>&) {
+  return {};
+}
+
+template <int D>
 bodies::MassProperties mesh_mass_properties(const scene::Scene& s, std::size_t index) {
   throw InputError(s.file.string() + ": bodies." + std::to_string(index) +
                    ": mesh bodies need the geometry module, which this build does not include "
@@ -236,6 +265,8 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double, std::vec
 
 #endif
 
+template std::vector<char> inside_mesh_body<2>(const scene::Scene&, std::size_t, const std::vector<Vec<2>>&);
+template std::vector<char> inside_mesh_body<3>(const scene::Scene&, std::size_t, const std::vector<Vec<3>>&);
 template bodies::MassProperties mesh_mass_properties<2>(const scene::Scene&, std::size_t);
 template bodies::MassProperties mesh_mass_properties<3>(const scene::Scene&, std::size_t);
 template void sample_mesh_body<2>(const scene::Scene&, std::size_t, double, std::vector<Vec<2>>&,

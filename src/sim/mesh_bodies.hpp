@@ -16,6 +16,11 @@ void sample_mesh_body(const scene::Scene& s, std::size_t index, double max_parti
                       std::vector<Vec<D>>& positions, std::vector<Vec<D>>& normals,
                       std::vector<Real>* interface_distance = nullptr);
 
+// Which of `points` lie inside the closed mesh of scene body `index` (3D; transformed as sampled): 1 inside.
+// Empty when it cannot tell: 2D bodies (outlines) and open meshes. Clears the fluid from mesh obstacles.
+template <int D>
+std::vector<char> inside_mesh_body(const scene::Scene& s, std::size_t index, const std::vector<Vec<D>>& points);
+
 // Volume, centre of mass and inertia of a closed mesh body at unit density (rigid bodies): exact over the
 // transformed mesh by signed tetrahedra. InputError for an open or self-intersecting mesh, and for 2D.
 template <int D>

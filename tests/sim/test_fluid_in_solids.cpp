@@ -88,3 +88,37 @@ TEST(FluidInSolids, ABoundaryBallOnTheFluidLatticeLeavesNoGap) {
                                                            {"center", {cx, cy}}, {"radius", R}}), &out);
   EXPECT_EQ(n, 8000 - within_r) << out;
 }
+
+TEST(FluidInSolids, AClosedMeshObstacleHoldsNoFluidAndAMeshTankKeepsIt) {
+  // the unit cube as an OFF file, shifted off the fluid's lattice; fluid box [-0.5, 1.5]^3 at dx = 0.1: the
+  // 10 x 10 x 10 fluid points inside the cube go (the clearance rule alone kept about 670 of them). The same
+  // mesh as a tank (layer_side "outside", the default) holds its fluid: nothing is removed as "inside".
+  const auto dir = test::scratch_dir("solid_mesh");
+  std::filesystem::create_directories(dir / "meshes");
+  std::ofstream(dir / "meshes" / "cube.off")
+      << "OFF\n8 12 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n3 0 2 1\n3 0 3 2\n3 4 5 6\n"
+         "3 4 6 7\n3 0 1 5\n3 0 5 4\n3 2 3 7\n3 2 7 6\n3 1 2 6\n3 1 6 5\n3 0 4 7\n3 0 7 3\n";
+  const auto scene = [&](const std::string& side) {
+    json mesh = {{"kind", "boundary"}, {"mesh", "meshes/cube.off"}, {"layers", 2},
+                 {"transform", {{"translate", {0.033, 0.047, 0.021}}}}};
+    if (!side.empty()) mesh["layer_side"] = side;
+    return json{{"name", "mesh_solid"}, {"setup", "paper"}, {"dimension", 3},
+                {"domain", {{"min", {-1, -1, -1}}, {"max", {2, 2, 2}}}}, {"particles", {{"spacing", 0.1}}},
+                {"gravity", {0, 0, -9.81}},
+                {"bodies", {{{"kind", "fluid"}, {"shape", "box"}, {"min", {-0.5, -0.5, -0.5}}, {"max", {1.5, 1.5, 1.5}}},
+                            mesh}},
+                {"integrator", {{"type", "verlet"}, {"dt", 1e-4}}}, {"time", {{"end", 0.01}}}};
+  };
+  const auto sample = [&](const json& j) {
+    std::ofstream(dir / "scene.json") << j.dump(1);
+    std::filesystem::remove_all(dir / "out");
+    return test::run_command(test::varsph_exe().string() + " sample " + (dir / "scene.json").string() + " -o " +
+                             (dir / "out").string());
+  };
+  auto r = sample(scene("inside"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("removed 1000 fluid particles inside solid bodies"), std::string::npos) << r.output;
+  r = sample(scene(""));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("inside solid bodies"), std::string::npos) << r.output;
+}
