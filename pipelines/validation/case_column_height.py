@@ -34,6 +34,7 @@ GOALS = {"height_rms": 0.10}
 def geometry_sets(dx, t_end=T_END):
     """--set overrides that turn the dam_break_mm scene into the long-tank height case."""
     return {"particles.spacing": dx, "time.end": t_end, "bodies.1.max": [TANK_LENGTH, 0.6],
+            "domain.min": [-6 * dx, -6 * dx],  # room for the wall layers a wider kernel asks for (up to 6)
             "domain.max": [TANK_LENGTH + 0.1, 1.0], "output.every": 0.1, "output.probes_every": 0.001,
             "probes": [{"type": "front"}, {"type": "water_height", "name": "back", "from": [GAUGE_X, 0.0]}]}
 

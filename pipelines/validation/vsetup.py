@@ -107,6 +107,12 @@ def apply_setup(case_scene, setup, case_keys=CASE_KEYS):
             shape = b.get("shape", "mesh" if "mesh" in b else "box")
             if b.get("kind") == "boundary" and shape in ("box", "tank", "mesh") and b.get("layers", 1) < need:
                 b["layers"] = need
+                if shape == "tank" and "domain" in out:  # a tank's layers grow outwards: keep them in the domain
+                    margin = need * float(out["particles"]["spacing"])
+                    dom = out["domain"]
+                    for a in range(len(b["min"])):
+                        dom["min"][a] = min(dom["min"][a], b["min"][a] - margin)
+                        dom["max"][a] = max(dom["max"][a], b["max"][a] + margin)
     return out
 
 

@@ -62,6 +62,11 @@ rep = vsetup.apply_setup(case, dict(setup, boundary={"model": "repulsive"}))
 check(rep["bodies"][1]["layers"] == 1, "repulsive walls keep their layers")
 g = vsetup.apply_setup(case, {"kernel": {"type": "gaussian", "h_over_dx": 1.2}, "boundary": {"model": "dummy_adami"}})
 check(g["bodies"][1]["layers"] == 4, "Gaussian 1.2 dx (3h = 3.6 dx) needs 4 layers")
+boxed = dict(case, domain={"min": [-0.02, -0.02], "max": [1.02, 1.5]})
+gd = vsetup.apply_setup(boxed, {"kernel": {"type": "gaussian", "h_over_dx": 1.2}, "boundary": {"model": "dummy_adami"}})
+check(gd["domain"] == {"min": [-0.04, -0.04], "max": [1.04, 1.5]},
+      f"the domain grows to hold the tank's 4 outer layers (and never shrinks), got {gd['domain']}")
+check(boxed["domain"]["min"] == [-0.02, -0.02], "the case's domain is not modified")
 
 with tempfile.TemporaryDirectory() as d:
     for body, expect in (('{"kernel": 3}', "key 'kernel' must be an object"), ("{oops", "not valid JSON"),
