@@ -7,7 +7,9 @@ The issue's goal: within 1 % of the body height h.
 
 The centre heaves about its equilibrium with a period of about 0.6 s and little damping, so the mean is taken over
 whole cycles: in the second half of the run, from the first to the last upward crossing of the centre's own mean
-(twice), time-weighted; V_fluid = sum m / rho over the fluid in the frames of that half.
+(twice), time-weighted; V_fluid = sum m / rho over the fluid in the frames of that half. A second estimate of
+the equilibrium: the height where the fluid's vertical force equals the weight, from the least-squares line of
+fluid_fz against the centre's height over the same half.
 
   python3 pipelines/bodies/archimedes_3d.py [--shape box|cylinder] [--density 300 500 800] [--t-end 2.0]
       [--threads 1] [-o runs/archimedes_3d] [--reuse] [--check 0.01]   (exit 1 when a case misses --check)
@@ -67,8 +69,15 @@ def evaluate(run, rel, area, t_end):
     level = (v + area * d) / TANK_AREA
     expected = level - d + 0.5 * HEIGHT
     ang = max(abs(float(r["angle"])) for r in rows if float(r["time"]) >= 0.5 * t_end)
+    # a second estimate: the height where the fluid's vertical force equals the weight (least-squares line of
+    # fluid_fz against z over the same half; the heave is slow, so the force is nearly the hydrostatic one)
+    fz = [float(r["fluid_fz"]) for r in rows if float(r["time"]) >= 0.5 * t_end]
+    weight = rel * 1000.0 * area * HEIGHT * 9.81
+    mz, mf = sum(z) / len(z), sum(fz) / len(fz)
+    k = sum((a - mz) * (b - mf) for a, b in zip(z, fz)) / sum((a - mz) ** 2 for a in z)
+    z_eq = mz + (weight - mf) / k
     amp = 0.5 * (max(z) - min(z))
-    return mean, plain, expected, level, cycles, amp, ang
+    return mean, plain, expected, level, cycles, amp, ang, z_eq
 
 
 def main():
@@ -101,12 +110,13 @@ def main():
                 raise SystemExit(3)
             print("%s %g kg/m^3: %.0f s wall, %d thread(s), load %.1f -> %.1f"
                   % (scene, dens, time.monotonic() - w0, a.threads, l0, os.getloadavg()[0]))
-        mean, plain, expected, level, cycles, amp, ang = evaluate(run, dens / 1000.0, area, a.t_end)
+        mean, plain, expected, level, cycles, amp, ang, z_eq = evaluate(run, dens / 1000.0, area, a.t_end)
         err = (mean - expected) / HEIGHT
         print("%s relative density %.2f: centre %.5f m over %d whole cycles (plain mean of the half %.5f), expected "
               "%.5f m (level %.5f m): error %+.2f %% of h (plain mean %+.2f %%); heave half-range %.1f mm, largest "
-              "angle %.4f rad" % (scene, dens / 1000, mean, cycles, plain, expected, level, 100 * err,
-                                  100 * (plain - expected) / HEIGHT, 1000 * amp, ang))
+              "angle %.4f rad; where the fluid force equals the weight: %.5f m (%+.2f %% of h)"
+              % (scene, dens / 1000, mean, cycles, plain, expected, level, 100 * err,
+                 100 * (plain - expected) / HEIGHT, 1000 * amp, ang, z_eq, 100 * (z_eq - expected) / HEIGHT))
         if a.check is not None and not abs(err) <= a.check:
             print("  FAIL: |error| %.2f %% of h > %.2f %%" % (100 * abs(err), 100 * a.check))
             failed = True
