@@ -15,6 +15,7 @@ GUI as in pvpython).
 particles clipped away on the camera's side and drawn light with their box as an outline, obstacles and bodies
 in their own colour (the `part` array of varsph Run, varsph/parts.py), every particle a shaded sphere.
 """
+import math
 import os
 import sys
 
@@ -690,8 +691,80 @@ def open_flow_state(run=None, time=None, vrange=None, view=None, portable=False)
     return _finish(view, info, "run", calls, info.times, time, portable)
 
 
+ELEVATION_LUT = "Cool to Warm"          # diverging: troughs blue, still water white-grey, crests red
+
+
+def still_water_level(run, up=None):
+    """The still-water level of a run [m] along the vertical axis ``up`` (default: opposite to gravity), as the
+    solver's wavemakers take it (src/sim/boundary_motion.cpp): the top of the particle rows the scene's fluid
+    boxes hold (a box holds floor(height / dx) rows: its water is that deep), or the bed plus a wavemaker's
+    ``depth`` where one names it. ValueError when the resolved scene (RUN/run.json) has no fluid box."""
+    import json
+    d = run if os.path.isdir(run) else os.path.dirname(run)
+    with open(os.path.join(d, "run.json")) as f:
+        scene = json.load(f).get("scene", {})
+    dim = int(scene.get("dimension", 2))
+    up = vertical_axis(d, dim) if up is None else up
+    dx = float(scene["particles"]["spacing"])
+    tops, beds = [], []
+    for b in scene.get("bodies", []):
+        if b.get("kind") == "fluid" and b.get("shape") == "box" and len(b.get("min", [])) == dim:
+            rows = math.floor((b["max"][up] - b["min"][up]) / dx + 1e-6)
+            tops.append(b["min"][up] + rows * dx)
+            beds.append(b["min"][up])
+    if not tops:
+        raise ValueError("%s: the scene has no fluid box, so no still-water level to measure the elevation from" % d)
+    for b in scene.get("bodies", []):
+        m = b.get("motion") or {}
+        if m.get("type") in ("piston", "flap") and "depth" in m:
+            return min(beds) + float(m["depth"])
+    return max(tops)
+
+
+def elevation_state(run=None, time=None, erange=None, view=None, portable=False):
+    """(5) Waves (issue 31, docs/waves.md): the free-surface particles (Marrone et al. 2010) coloured by their
+    elevation above still water: eta = y - (level - dx/2) in 2D (z in 3D), level the still-water level
+    (still_water_level) and level - dx/2 where the top row's centres sit at rest (the surface lies half a spacing
+    above the surface particles' centres: still water shows 0), on a
+    diverging map symmetric about 0 (troughs blue, crests red) whose range is fixed over the run (the largest
+    |eta| of the fluid's highest particles in up to 5 frames, or ``erange``), the fluid pale under them, walls
+    grey."""
+    s = pv()
+    run_dir = resolve(None if portable else run)
+    info = RunInfo(run_dir)
+    level = still_water_level(run_dir, info.up)
+    view = view or new_view(name="varsph elevation")
+    r = open_run(None if portable else run_dir)
+    fluid = _fluid_and_walls(s, r, info, view)
+    _points(fluid, view, info.dx, colour=FLUID_PALE)
+    fs = s.varsphFreeSurface(registrationName="FreeSurface", Input=r, ReconstructSurface=0)
+    surf = _select(s, "FreeSurfaceParticles", s.OutputPort(fs, 0), "free_surface", 1)
+    calc = s.Calculator(registrationName="Elevation", Input=surf)
+    calc.ResultArrayName = "elevation"
+    rest = level - 0.5 * info.dx      # the top row's centres in still water
+    calc.Function = "coords%s - (%.17g)" % ("XYZ"[info.up], rest)
+    d = _points(calc, view, info.dx, scale=1.4)
+    lut = _colour_bar(d, view, "elevation", None, ELEVATION_LUT, "elevation above still water [m]", fmt="%-.3g")
+    if erange:
+        lo, hi = erange
+    else:      # symmetric: the crests' height above still water over the run (at least half a spacing)
+        a = 0.5 * info.dx
+        picks = sorted(set(int(round(k)) for k in np.linspace(0, len(info.frames) - 1, min(5, len(info.frames)))))
+        for k in picks:
+            f = read_vtu(info.frames[k][1], info.frames[k][0])
+            x = f.points[f.fluid_mask()]
+            if len(x):
+                a = max(a, abs(float(x[:, info.up].max()) - rest))
+        lo, hi = -a, a
+    lut.RescaleTransferFunction(lo, hi)
+    _text(view, "free surface coloured by elevation above still water (level %.4g m; particle centres, 0 at rest)"
+          % level, name="Title")
+    time_annotation(view, r)
+    return _finish(view, info, "run", [], info.times, time, portable)
+
+
 STATES = {"free_surface": free_surface_state, "pressure": pressure_state, "deviation": deviation_state,
-          "open_flow": open_flow_state}
+          "open_flow": open_flow_state, "elevation": elevation_state}
 
 
 def screenshot(view, path, size=None):

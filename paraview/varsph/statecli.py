@@ -58,6 +58,9 @@ def build(name, args=None, view=None):
     if name == "open_flow":
         return pvstate.open_flow_state(a.run if a else None, time=a.time if a else None,
                                        vrange=a.range if a else None, view=view)
+    if name == "elevation":
+        return pvstate.elevation_state(a.run if a else None, time=a.time if a else None,
+                                       erange=a.range if a else None, view=view)
     return pvstate.deviation_state(a.run if a else None, a.other if a else None, time=a.time if a else None,
                                    drange=a.range if a else None, view=view)
 

@@ -3,7 +3,7 @@
 linear theory, decay along the flume, reflection with the damping zone, mass and paddle leaks.
 
     pvpython pipelines/validation/case_waves.py [--paddle piston|flap] [--per-height 10] [--kh 1.5] [--periods 10]
-        [--no-damping] [--threads 2] [-o DIR | --rundir DIR] [--check-height 0.05] [--check-period 0.01]
+        [--no-damping] [--awas shallow|linear] [--threads 2] [-o DIR | --rundir DIR] [--check-height 0.05] [--check-period 0.01]
         [--check-decay 0.05] [--check-kr 0.10]
 
 The flume is written by pipelines/waves/make_flume.py (h = 0.2 m, H = 0.04 m, the given kh and resolution H/dx)
@@ -87,6 +87,8 @@ def main(argv):
     ap.add_argument("--height", type=float, default=0.04)
     ap.add_argument("--periods", type=float, default=10)
     ap.add_argument("--no-damping", action="store_true")
+    ap.add_argument("--awas", default=None, metavar="GAIN", choices=("shallow", "linear"),
+                    help="active absorption at the paddle with this gain (motion.awas, docs/waves.md)")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("-o", dest="out", default=None)
     ap.add_argument("--rundir", default=None, help="analyse this finished run instead of running")
@@ -99,8 +101,9 @@ def main(argv):
         with open(os.path.join(a.rundir, "run.json")) as f:
             scene = json.load(f)["scene"]
     else:
-        scene = make_flume.flume("waves_%s_kh%g_H%g" % (a.paddle, a.kh, a.per_height), a.paddle, 0.2, a.height, a.kh,
-                                 a.per_height, a.periods, damping=not a.no_damping)
+        scene = make_flume.flume("waves_%s_kh%g_H%g%s" % (a.paddle, a.kh, a.per_height, "_awas" if a.awas else ""), a.paddle, 0.2, a.height, a.kh,
+                                 a.per_height, a.periods, damping=not a.no_damping,
+                                 awas=None if a.awas is None else {"gain": a.awas})
     pb, body, m = paddle_of(scene)
     h = max(b["max"][1] for b in scene["bodies"] if b["kind"] == "fluid")
     H, T = m["height"], m["period"]

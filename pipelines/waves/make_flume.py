@@ -60,7 +60,7 @@ def to_3d(scene, width):
     return scene
 
 
-def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_lengths=1.0, order=1):
+def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_lengths=1.0, order=1, awas=None):
     k = kh / h
     omega = math.sqrt(9.81 * k * math.tanh(kh))
     T = 2 * math.pi / omega
@@ -76,6 +76,8 @@ def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_length
     motion = {"type": paddle, "waves": "regular", "height": H, "period": r(T, 9), "ramp": r(2 * T, 6)}
     if order == 2:
         motion["order"] = 2
+    if awas is not None:  # active absorption at the paddle (docs/waves.md), e.g. {} or {"gain": "linear"}
+        motion["awas"] = awas
     if paddle == "flap":
         motion["hinge"] = [r(-1.5 * dx), 0.0]
     back = S / 2 + 0.05
@@ -124,6 +126,8 @@ def main():
     scenes = [
         flume("piston_flume_2d", "piston", 0.2, 0.04, 1.5, 10, 10),
         flume("flap_flume_2d", "flap", 0.2, 0.04, 1.5, 10, 10),
+        # the piston flume with active absorption at the paddle added (docs/waves.md), 20 periods
+        flume("piston_flume_awas_2d", "piston", 0.2, 0.04, 1.5, 10, 20, awas={}),
         to_3d(flume("piston_basin_3d", "piston", 0.2, 0.04, 1.5, 5, 10), 0.096),
     ]
     for s in scenes:

@@ -71,7 +71,7 @@ int command_paraview(const CommandArgs& a) {
   fs::path state = pv / "states" / (fs::path(name).has_extension() ? name : name + ".py");
   if (!fs::is_regular_file(state)) state = fs::absolute(name);  // a state file of one's own
   if (!fs::is_regular_file(state))
-    throw InputError("--state " + name + ": no such state; expected free_surface, pressure, deviation, open_flow (add .pvsm "
+    throw InputError("--state " + name + ": no such state; expected free_surface, pressure, deviation, open_flow, elevation (add .pvsm "
                      "for the XML state files) or the path of a .py / .pvsm state file");
   if (state.stem() == "deviation" && !two)
     throw InputError("--state deviation compares two runs: give RUN_B after RUN (varsph paraview RUN RUN_B)");

@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
   paraview->add_option("run", args.run_a, "Run directory (or its .pvd)")->required();
   paraview->add_option("run_b", args.run_b, "Second run, for the deviation state");
   paraview->add_option("--state", args.state,
-                       "free_surface | pressure (default) | deviation (default with RUN_B) | open_flow; NAME.pvsm for the XML "
+                       "free_surface | pressure (default) | deviation (default with RUN_B) | open_flow | elevation; NAME.pvsm for the XML "
                        "state; or a .py / .pvsm state file");
   paraview->add_option("--paraview", args.paraview_exe, "ParaView executable (default: paraview on PATH)");
   paraview->add_flag("--dry-run", args.dry_run, "Print the environment and command instead of starting ParaView");

@@ -2,6 +2,8 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -188,6 +190,64 @@ void parse_wavemaker(const json& m, const std::string& where, const scene::Scene
       throw InputError(where + ": the paddle's stroke (" + num(2 * reach) + " m) reaches x = " + num(hi) +
                        ", beyond the water's far end " + num(fluid_far));
   }
+  // active absorption (AWAS-Zsurf; Altomare et al. 2017 eq. 12): its target is the signal's linear-theory wave
+  if (m.contains("awas") && !(m["awas"].is_boolean() && !m["awas"].get<bool>())) {
+    const std::string aw = where + ".awas";
+    const json a = m["awas"].is_boolean() ? json::object() : m["awas"];
+    if (!a.is_object()) throw InputError(aw + ": expected an object (or true) with gauge, start, gain, drift_time");
+    for (auto it = a.begin(); it != a.end(); ++it)
+      if (it.key() != "gauge" && it.key() != "start" && it.key() != "gain" && it.key() != "drift_time") {
+        const auto guess = scene::closest_key(it.key(), {"gauge", "start", "gain", "drift_time"});
+        throw InputError(aw + ": unknown key '" + it.key() + "'" + (guess ? " (did you mean '" + *guess + "'?)" : ""));
+      }
+    if (flap) throw InputError(aw + ": active absorption is implemented for a piston only (no flap transfer of the correction)");
+    if (waves_kind == "file")
+      throw InputError(aw + ": needs a wave-theory signal (\"regular\", \"irregular\" or \"focused\") for its target "
+                       "elevation; a paddle file gives none");
+    if (pb.min.size() != std::size_t(D) || pb.max.size() != std::size_t(D))
+      throw InputError(aw + ": the paddle must be a box body (its face is the box's max x)");
+    auto& A = law.awas;
+    A.on = true;
+    A.face = pb.max[0];
+    if (D == 3) A.across = 0.5 * (pb.min[1] + pb.max[1]);
+    A.bed = bed;
+    A.depth = depth;
+    A.ramp = signal.ramp();
+    A.gauge = number_of(a, aw, "gauge", 5 * sc->spacing);
+    const double support = 2 * sc->h;  // Wendland / cubic spline support radius
+    if (!(A.gauge >= support))
+      throw InputError(aw + ".gauge: " + num(A.gauge) + " m is within the kernel's support (" + num(support) +
+                       " m) of the paddle's face: the gauge would read the wall's deficit (limit: at least 2h)");
+    if (have_water && !(A.face + reach + A.gauge + support < fluid_far))
+      throw InputError(aw + ".gauge: the gauge at " + num(A.gauge) + " m from the paddle's face leaves the water (far end " +
+                       num(fluid_far) + ")");
+    A.start = number_of(a, aw, "start", law.start + A.ramp);
+    if (!(A.start >= 0)) throw InputError(aw + ".start: expected a time >= 0 [s]");
+    A.drift_time = number_of(a, aw, "drift_time", 0.0);
+    if (!(A.drift_time >= 0)) throw InputError(aw + ".drift_time: expected a duration >= 0 [s] (0: no drift correction)");
+    const std::string gain = a.contains("gain") ? (a["gain"].is_string() ? a["gain"].get<std::string>() : "?") : "shallow";
+    // the target: each first-order component q_i = A_i sin(omega_i tau + phi_i) makes eta_i = A_i (H/S)(k_i)
+    // cos(omega_i tau + phi_i - k_i x) (Dean & Dalrymple 1991, 6.2); Madsen's second-order term makes no target
+    const std::size_t first = waves_kind == "regular" ? 1 : signal.components().size();
+    for (std::size_t c = 0; c < first; ++c) {
+      const auto& q = signal.components()[c];
+      const double k = waves::wave_number(q.omega, depth, g);
+      A.target.push_back({q.amplitude * geo.transfer(k), q.omega, q.phase});
+      A.k.push_back(k);
+    }
+    if (gain == "shallow") {
+      A.gain = std::sqrt(g / depth);  // Schaffer & Klopman 2000, shallow water; Altomare et al. 2017 eq. 12
+    } else if (gain == "linear") {
+      // U = omega / (H/S) eta: the piston velocity that makes a wave eta at frequency omega (its shallow limit is
+      // sqrt(g/h)), at the regular wave's period or the spectrum's peak
+      const double T = waves_kind == "regular" ? number_of(m, where, "period", 1) : number_of(m, where, "tp", 1);
+      const double w = 2 * std::numbers::pi / T, k = waves::wave_number(w, depth, g);
+      A.gain = w / geo.transfer(k);
+    } else {
+      throw InputError(aw + ".gain: expected \"shallow\" (sqrt(g/h)) or \"linear\" (omega / (H/S) at the period), got " +
+                       a["gain"].dump());
+    }
+  }
   law.paddle = std::make_shared<const waves::PaddleSignal>(std::move(signal));
 }
 
@@ -203,7 +263,7 @@ MotionLaw<D> parse_motion(const json& m, const std::string& where, const scene::
   const std::string type = m["type"].get<std::string>();
   const std::vector<std::string> wavemaker{"type", "waves", "depth", "height", "period", "phase", "order", "hs", "tp",
                                            "gamma", "components", "f_min", "f_max", "seed", "crest", "focus_x",
-                                           "focus_t", "file", "column", "ramp", "start", "end"};
+                                           "focus_t", "file", "column", "ramp", "start", "end", "awas"};
   std::vector<std::string> allowed = type == "translation" ? std::vector<std::string>{"type", "velocity", "start", "end"}
                                      : type == "rotation"  ? std::vector<std::string>{"type", "center", "omega", "start", "end"}
                                      : type == "piston" || type == "flap" ? wavemaker
@@ -247,8 +307,12 @@ MotionLaw<D> parse_motion(const json& m, const std::string& where, const scene::
 
 template <int D>
 BoundaryMotion<D>::BoundaryMotion(std::vector<MotionLaw<D>> laws, ParticleStore& store) : laws_(std::move(laws)) {
-  for (const auto& l : laws_) active_ |= l.type != MotionLaw<D>::Type::None;
+  for (const auto& l : laws_) {
+    active_ |= l.type != MotionLaw<D>::Type::None;
+    absorbing_ |= l.awas.on;
+  }
   paddle_.resize(laws_.size());
+  awas_.resize(laws_.size());
   if (!active_) return;
   x0_ = &store.add<Vec<D>>("reference_position", {.exported = false});
   n0_ = &store.add<Vec<D>>("reference_normal", {.exported = false});
@@ -378,8 +442,15 @@ void BoundaryMotion<D>::apply(double t, Field<Vec<D>>& x, Field<Vec<D>>& v, Fiel
                               const Field<std::int32_t>& body, Field<Vec<D>>* acc) const {
   if (!active_) return;
   // each wavemaker's signal once per call (a spectrum's hundreds of components are not summed per particle)
-  for (std::size_t k = 0; k < laws_.size(); ++k)
-    if (laws_[k].paddle) paddle_[k] = paddle_state(laws_[k], t);
+  for (std::size_t k = 0; k < laws_.size(); ++k) {
+    if (!laws_[k].paddle) continue;
+    paddle_[k] = paddle_state(laws_[k], t);
+    if (laws_[k].awas.on) {  // the absorption's correction, held at U_c over the step (also after `end`)
+      const auto& s = awas_[k];
+      paddle_[k].q += s.shift + (t - s.t_ref) * s.u;
+      paddle_[k].dq += s.u;
+    }
+  }
   const waves::PaddleState* paddle = paddle_.data();
   for_each_particle(x.size(), [&](std::size_t i) {
     const int b = body[i];
@@ -389,6 +460,90 @@ void BoundaryMotion<D>::apply(double t, Field<Vec<D>>& x, Field<Vec<D>>& v, Fiel
     normal[i] = R * (*n0_)[i];
     if (acc) (*acc)[i] = acceleration(laws_[b], paddle[b], t, x[i]);
   });
+}
+
+namespace {
+// the linear-theory target elevation of a law at time t, x from the paddle's face at rest (zero outside the law's
+// [start, end]: a stopped paddle targets still water); ramped as the signal is
+template <int D>
+double target_elevation(const MotionLaw<D>& law, double t, double x) {
+  const auto& A = law.awas;
+  if (!(t >= law.start && t <= law.end)) return 0;
+  const double tau = t - law.start;
+  const double r = tau < A.ramp ? 0.5 * (1 - std::cos(std::numbers::pi * tau / A.ramp)) : 1.0;
+  double eta = 0;
+  for (std::size_t i = 0; i < A.target.size(); ++i) {
+    const auto& c = A.target[i];
+    eta += c.amplitude * std::cos(c.omega * tau + c.phase - A.k[i] * x);
+  }
+  return r * eta;
+}
+
+std::string hex_of(double v) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(std::bit_cast<std::uint64_t>(v)));
+  return buf;
+}
+double of_hex(const json& j) { return std::bit_cast<double>(std::uint64_t(std::stoull(j.get<std::string>(), nullptr, 16))); }
+}  // namespace
+
+template <int D>
+void BoundaryMotion<D>::absorb(double t, const std::function<double(double, double)>& level) {
+  for (std::size_t k = 0; k < laws_.size(); ++k) {
+    const auto& law = laws_[k];
+    if (!law.awas.on) continue;
+    const auto& A = law.awas;
+    auto& s = awas_[k];
+    s.shift += (t - s.t_ref) * s.u;  // X_c(t): the same expression apply() evaluated at t (the same bits)
+    s.t_ref = t;
+    const double X = paddle_state(law, t).q + s.shift;  // the paddle's displacement at t
+    const double lv = level(A.face + X + A.gauge, A.across);
+    if (!s.have_level0) {  // the still-water reading removes the gauge's own offset (particle rows, kernel)
+      s.level0 = lv;
+      s.have_level0 = true;
+    }
+    s.eta_measured = lv - s.level0;
+    s.eta_target = target_elevation(law, t, X + A.gauge);
+    if (t < A.start) {
+      s.u = 0;
+      continue;
+    }
+    // Altomare et al. 2017 eq. 12 (Schaffer & Klopman 2000): U_c = G (eta_T - eta_M); drift: - X_c / T_d
+    s.u = A.gain * (s.eta_target - s.eta_measured) - (A.drift_time > 0 ? s.shift / A.drift_time : 0.0);
+  }
+}
+
+template <int D>
+nlohmann::json BoundaryMotion<D>::save_state() const {
+  json a = json::array();
+  for (std::size_t k = 0; k < laws_.size(); ++k) {
+    if (!laws_[k].awas.on) continue;
+    const auto& s = awas_[k];
+    a.push_back({{"law", k}, {"t_ref", hex_of(s.t_ref)}, {"shift", hex_of(s.shift)}, {"u", hex_of(s.u)},
+                 {"level0", hex_of(s.level0)}, {"have_level0", s.have_level0}, {"eta_target", hex_of(s.eta_target)},
+                 {"eta_measured", hex_of(s.eta_measured)}});
+  }
+  return a;
+}
+
+template <int D>
+void BoundaryMotion<D>::restore_state(const nlohmann::json& j) {
+  std::size_t n = 0;
+  for (const auto& l : laws_) n += l.awas.on;
+  if (!j.is_array() || j.size() != n)
+    throw InputError("checkpoint: the active absorption state of " + std::to_string(n) + " paddles expected (motion.awas)");
+  for (const auto& e : j) {
+    const std::size_t k = e.at("law").get<std::size_t>();
+    if (k >= laws_.size() || !laws_[k].awas.on) throw InputError("checkpoint: the absorbing paddles do not match the scene");
+    auto& s = awas_[k];
+    s.t_ref = of_hex(e.at("t_ref"));
+    s.shift = of_hex(e.at("shift"));
+    s.u = of_hex(e.at("u"));
+    s.level0 = of_hex(e.at("level0"));
+    s.have_level0 = e.at("have_level0").get<bool>();
+    s.eta_target = of_hex(e.at("eta_target"));
+    s.eta_measured = of_hex(e.at("eta_measured"));
+  }
 }
 
 template class BoundaryMotion<2>;

@@ -13,6 +13,14 @@
 //                phi = -theta about z (2D) / +theta about y (3D): the top moves towards +x for X > 0;
 //                v = phi' e x r,  a = phi'' e x r + phi' e x (phi' e x r)  (r = x - c)
 // Each law acts for start <= t <= end (before: at rest at x0; after: frozen where it stopped).
+// Active absorption at a piston (AWAS, `motion.awas`; docs/waves.md "Active absorption"): the paddle's signal X(t)
+// gets a correction X_c whose velocity is U_c = G (eta_T - eta_M) - X_c / T_d (Altomare et al. 2017, Coastal Eng.
+// 127, eq. 12, after Schaffer & Klopman 2000: G = sqrt(g/h) in the shallow-water form, omega / (H/S) in the linear
+// one; T_d the optional drift time), eta_T the linear-theory target and eta_M the elevation measured at a gauge a
+// distance `gauge` in front of the paddle's face. U_c is set once per step from the state at its start and held
+// over the step: X_c(t) = X_c(t_k) + (t - t_k) U_c, so the motion stays a function of t and of the correction's
+// state (t_k, X_c(t_k), U_c, the still-water reading), which checkpoints carry (save_state / restore_state).
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -41,6 +49,30 @@ struct MotionLaw {
   std::shared_ptr<const waves::PaddleSignal> paddle;
   bool paddle_angle = false;
   double arm = 0;
+  // active absorption (piston only; `motion.awas`)
+  struct Absorption {
+    bool on = false;
+    double gain = 0;        // G [1/s]: sqrt(g/h) ("shallow") or omega/(H/S) at the (peak) period ("linear")
+    double start = 0;       // [s] absolute time from which the correction acts (default: the ramp's end)
+    double gauge = 0;       // distance of the gauge from the paddle's face [m]
+    double face = 0;        // the face's x at rest [m]
+    double across = 0;      // 3D: the gauge line's y [m]
+    double bed = 0, depth = 0;
+    double drift_time = 0;  // T_d [s]; 0: no drift correction
+    double ramp = 0;        // the signal's ramp [s] (the target is ramped alike)
+    std::vector<waves::Component> target;  // eta_T = r(tau) sum_i a_i cos(omega_i tau + phase_i - k_i x)
+    std::vector<double> k;                 // k_i [1/m]
+  } awas;
+};
+
+// The state of one law's absorption (per law; checkpointed).
+struct AbsorptionState {
+  double t_ref = 0;     // time of the last update [s]
+  double shift = 0;     // X_c(t_ref) [m]
+  double u = 0;         // U_c over the current step [m/s]
+  double level0 = 0;    // the gauge's still-water reading [m] (taken at the first update)
+  bool have_level0 = false;
+  double eta_target = 0, eta_measured = 0;  // at the last update [m]
 };
 
 // Parses `bodies.N.motion` (InputError naming the key). Returns Type::None when absent. Wavemakers need the
@@ -62,6 +94,15 @@ class BoundaryMotion {
   // Records the current positions/normals as references (after the particles are built).
   void capture_reference(const Field<Vec<D>>& x, const Field<Vec<D>>& normal);
   const std::vector<MotionLaw<D>>& laws() const { return laws_; }
+  // Whether some law absorbs actively (motion.awas).
+  bool absorbing() const { return absorbing_; }
+  // Updates every absorbing law's correction at time t from the free-surface level that `level(x, y)` reads on
+  // the vertical line at horizontal position x (3D: across position y). Call once at the start of each step,
+  // outside parallel regions, on the state at t (before the walls move for the step).
+  void absorb(double t, const std::function<double(double, double)>& level);
+  const std::vector<AbsorptionState>& absorption() const { return awas_; }
+  nlohmann::json save_state() const;
+  void restore_state(const nlohmann::json& j);
 
  private:
   // Position, velocity and rotation of a law at time t for a reference point x0; `paddle` is the law's
@@ -75,7 +116,8 @@ class BoundaryMotion {
 
   std::vector<MotionLaw<D>> laws_;
   mutable std::vector<waves::PaddleState> paddle_;  // per law, at the time of the last apply()
-  bool active_ = false;
+  std::vector<AbsorptionState> awas_;                // per law
+  bool active_ = false, absorbing_ = false;
   Field<Vec<D>>* x0_ = nullptr;
   Field<Vec<D>>* n0_ = nullptr;
 };

@@ -21,6 +21,15 @@ void restore_rigid_bodies(Simulation<D>& sim, const nlohmann::json& state, const
   b->restore_state(state.at("rigid_bodies"));
 }
 
+// A paddle's active absorption (motion.awas): its correction's state, saved with the integrator state.
+template <int D>
+void restore_absorption(Simulation<D>& sim, const nlohmann::json& state, const std::string& file) {
+  if (!sim.motion().absorbing()) return;
+  if (!state.contains("wavemaker_absorption"))
+    throw InputError(file + ": the checkpoint holds no active absorption state (written without motion.awas?)");
+  sim.restore_motion_state(state.at("wavemaker_absorption"));
+}
+
 }  // namespace
 namespace {
 
@@ -145,6 +154,7 @@ void restore_from_checkpoint(Simulation<D>& sim, const io::Checkpoint& c, const 
   sim.recount_kinds();
   sim.set_clock(h.time, long(h.step));
   restore_rigid_bodies(sim, h.integrator_state, file);  // before the sort places their particles
+  restore_absorption(sim, h.integrator_state, file);     // the paddles' correction: before the sort moves them
   // id counter and flows (in the runner state: in a distributed run their sums agree to round-off only)
   sim.restore_flow_state(h.runner_state.value("flow", nlohmann::json()));
   // the arrays are in the order of the checkpointed step's cell sort; sorting again is stable, so this
@@ -170,6 +180,7 @@ io::CheckpointHeader checkpoint_header(Simulation<D>& sim, const nlohmann::json&
   h.integrator = integ.name();
   h.integrator_state = integ.save_state();
   if (const auto* b = sim.rigid_bodies()) h.integrator_state["rigid_bodies"] = b->save_state();
+  if (sim.motion().absorbing()) h.integrator_state["wavemaker_absorption"] = sim.save_motion_state();
   h.runner_state = runner_state;
   h.runner_state["flow"] = sim.save_flow_state();
   return h;
@@ -197,6 +208,7 @@ void StateSnapshot<D>::capture(Simulation<D>& sim, const nlohmann::json& runner_
   step_ = sim.step();
   integrator_state_ = sim.integrator().save_state();
   if (const auto* b = sim.rigid_bodies()) integrator_state_["rigid_bodies"] = b->save_state();
+  if (sim.motion().absorbing()) integrator_state_["wavemaker_absorption"] = sim.save_motion_state();
   integrator_state_["flow"] = sim.save_flow_state();
   runner_state_ = runner_state;
   valid_ = true;
@@ -217,6 +229,7 @@ void StateSnapshot<D>::restore(Simulation<D>& sim) const {
   sim.set_clock(time_, step_);
   sim.set_dt(dt_);
   restore_rigid_bodies(sim, integrator_state_, "the last good state");
+  restore_absorption(sim, integrator_state_, "the last good state");
   sim.integrator().restore_state(integrator_state_);
   sim.restore_flow_state(integrator_state_.at("flow"));
   if (sim.distributed()) {  // owned rows back in place, ghosts and grid rebuilt for them (collective)
@@ -245,7 +258,8 @@ long StateSnapshot<D>::replay_to(Simulation<D>& sim, long step) const {
   // the order of restore_from_checkpoint(): the arrays are in the captured step's cell order, and the
   // stable sort rebuilds its grid without moving them
   sim.set_clock(time_, step_);
-  restore_rigid_bodies(sim, integrator_state_, "the last good state");  // before the sort places them
+  restore_rigid_bodies(sim, integrator_state_, "the last good state");
+  restore_absorption(sim, integrator_state_, "the last good state");  // before the sort places them
   sim.restore_flow_state(integrator_state_.at("flow"));
   if (!sim.on_device()) sim.sort_and_bin();
   sim.set_dt(dt_);

@@ -19,6 +19,7 @@
 #include "sim/open_boundaries.hpp"
 #include "sim/step_region.hpp"
 #include "bodies/rigid_bodies.hpp"
+#include "kernels/kernel_eval.hpp"
 
 namespace varsph {
 namespace {
@@ -176,6 +177,13 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     if (comm_->size() > 1 && scene.output_static_boundary != "every_frame")  // one static file, not pieces
       throw InputError(scene.file.string() + ": key 'output.static_boundary': \"once\" is written by one process "
                        "only; run it in one process or set \"every_frame\"");
+    if (comm_->size() > 1 && motion_->absorbing()) {
+      std::size_t b = 0;
+      while (b < motion_->laws().size() && !motion_->laws()[b].awas.on) ++b;
+      // the gauge's reading is a sum over the column's particles, which several ranks share: not bitwise yet
+      throw InputError(scene.file.string() + ": key 'bodies." + std::to_string(b) + ".motion.awas': active absorption "
+                       "is not available on several MPI ranks yet (docs/waves.md); run it in one process");
+    }
     if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
       // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
       throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
@@ -560,6 +568,9 @@ const StepReport& Simulation<D>::advance() {
 
 template <int D>
 const StepReport& Simulation<D>::advance(const std::function<void()>& after_step) {
+  // active absorption: the paddle's correction for this step from the elevation at its gauge at t_k
+  if (motion_->absorbing())
+    motion_->absorb(time_, [&](double x, double y) { return free_surface_level(x, y); });
   if (walls_move()) move_boundaries(time_);  // walls at t_k for the forces of this step
   if (open_) open_->before_step(*this);  // buffer particles' positions and velocities at t_k
   rates_->set_time(time_);  // gravity ramp, damping window
@@ -587,6 +598,57 @@ const StepReport& Simulation<D>::advance(const std::function<void()>& after_step
   if (scene_.shepard_reinit_every > 0 && step_ % scene_.shepard_reinit_every == 0) reinitialise_density();
   if (after_step && !checked) after_step();
   return report_;
+}
+
+template <int D>
+double Simulation<D>::free_surface_level(double x, double y) const {
+  const kernels::AnyKernel<D> W(scene_.kernel, scene_.h, scene_.kernel_l);
+  const double rc = double(W.support());
+  // the bed: the lowest fluid box's floor (as the wavemaker's depth is measured)
+  double bed = 1e300;
+  for (const auto& b : scene_.bodies)
+    if (b.kind == "fluid" && b.shape == "box" && b.min.size() == std::size_t(D)) bed = std::min(bed, b.min[D - 1]);
+  if (bed == 1e300) bed = scene_.domain_min[D - 1];
+  // fluid particles near the line (horizontal distance below the support), storage order; the highest of them
+  const auto& f = f_;
+  near_.clear();
+  double top = -1e300;
+  for (std::size_t j = 0; j < size(); ++j) {
+    if (f.kind[j] != 0) continue;
+    double d2 = (double(f.x[j][0]) - x) * (double(f.x[j][0]) - x);
+    if (D == 3) d2 += (double(f.x[j][1]) - y) * (double(f.x[j][1]) - y);
+    if (d2 < rc * rc) {
+      near_.push_back(std::uint32_t(j));
+      top = std::max(top, double(f.x[j][D - 1]));
+    }
+  }
+  if (near_.empty()) return bed;  // dry
+  const double step = scene_.spacing / 4;
+  auto phi_at = [&](long k) {
+    Vec<D> p;
+    p[0] = Real(x);
+    if (D == 3) p[1] = Real(y);
+    p[D - 1] = Real(bed + double(k) * step);
+    double phi = 0;
+    for (const std::uint32_t j : near_) {
+      const Real r = (p - f.x[j]).norm();
+      if (r < Real(rc)) phi += double(f.mass[j]) / double(f.rho[j]) * double(W(r).w);
+    }
+    return phi;
+  };
+  // above top + rc the indicator is 0: the highest crossing lies below; search down from there to a level where
+  // the column is full (phi >= 1/2), normally within 2 rc (then the whole column: a drop above the water)
+  const long k_hi = long(std::ceil((top + rc - bed) / step));
+  long k_lo = std::max(0L, long(std::floor((top - 2 * rc - bed) / step)));
+  if (k_lo > 0 && phi_at(k_lo) < 0.5) k_lo = 0;
+  double level = bed, prev_phi = 0;
+  for (long k = k_lo; k <= k_hi; ++k) {
+    const double phi = phi_at(k);
+    if (k > k_lo && prev_phi >= 0.5 && phi < 0.5)
+      level = bed + double(k - 1) * step + (prev_phi - 0.5) / (prev_phi - phi) * step;  // linear interpolation
+    prev_phi = phi;
+  }
+  return level;
 }
 
 template <int D>

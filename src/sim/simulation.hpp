@@ -164,6 +164,16 @@ class Simulation {
   // Positions and velocities of moving boundary bodies at time t, and of rigid bodies at their current
   // state (no-op when no body moves).
   void move_boundaries(double t);
+  // The prescribed motions (wavemakers; their active absorption's state, sim/boundary_motion.hpp).
+  const BoundaryMotion<D>& motion() const { return *motion_; }
+  // The active absorption's state for checkpoints (an empty array when no paddle absorbs) and its restore.
+  nlohmann::json save_motion_state() const { return motion_->save_state(); }
+  void restore_motion_state(const nlohmann::json& j) { motion_->restore_state(j); }
+  // The free-surface level [m] on the vertical line at horizontal position x (3D: across position y): the highest
+  // level where the fluid indicator sum_j (m_j / rho_j) W crosses 1/2, sampled every dx/4 from the bed of the
+  // scene's fluid (the water_height probe's definition, docs/results.md), over this process's owned fluid in
+  // storage order (one process: the same bits on any thread count). Serial; the active absorption's gauge.
+  double free_surface_level(double x, double y) const;
   // Rigid bodies (scene bodies of kind "rigid"; bodies/rigid_bodies.hpp): null when the scene has none.
   bodies::RigidBodies<D>* rigid_bodies() { return bodies_.get(); }
   const bodies::RigidBodies<D>* rigid_bodies() const { return bodies_.get(); }
@@ -277,6 +287,7 @@ class Simulation {
   std::vector<std::uint32_t> kept_;  // particle removal: indices of the survivors
   std::vector<Real> rho_scratch_;  // Shepard re-initialisation output (sized once)
   std::vector<Vec<D>> shift_scratch_;  // shifting displacements (sized once; consumed within the step)
+  mutable std::vector<std::uint32_t> near_;  // free_surface_level: the column's particles (capacity kept)
   std::size_t n_fluid_ = 0, n_boundary_ = 0;
   Real skin_ = 0;
   double time_ = 0, dt_ = 0;
