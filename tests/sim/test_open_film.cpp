@@ -100,9 +100,13 @@ TEST(OpenFilmValidation, NusseltProfileFluxDepthAndMassBalance) {
               "depth %.4f H, flux %.4f q_exact, mass %.4f M0, mass balance %.3g of M0, created %ld, removed %ld\n",
               s.spacing, H / s.spacing, sim.time(), sim.step(), 100 * m.profile_error, us, m.depth / H, m.flux / q_exact,
               m.mass_ratio, m.balance, m.created, m.removed);
-  EXPECT_LT(m.profile_error, 0.05);
-  EXPECT_LT(std::abs(m.flux / q_exact - 1), 0.05);
-  EXPECT_LT(std::abs(m.depth / H - 1), 0.05);
+  // measured at t = 1 s, H/dx = 20 (docs/validation.md section 19): profile 0.32 % of u_s, flux +0.13 %, depth
+  // -0.33 % (the top particle + dx/2, a measure quantised by dx = 5 % of H, averaged over the columns); the
+  // tolerances are 1 % (the goal for the Poiseuille profile), three times what is measured, and a
+  // departure of the depth or the flux by 1 % would be a free-surface inlet that does not keep its level or flux
+  EXPECT_LT(m.profile_error, 0.01);
+  EXPECT_LT(std::abs(m.flux / q_exact - 1), 0.01);
+  EXPECT_LT(std::abs(m.depth / H - 1), 0.01);
   EXPECT_LT(m.balance, 1e-12);
   EXPECT_GT(m.created, 0);
   EXPECT_GT(m.removed, 0);
