@@ -163,14 +163,17 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
         << " spacings deep";
       throw InputError(m.str());
     }
-    // the interface must face the fluid: fluid particles within a spacing beyond it
-    bool faces_fluid = false;
+    // the interface must face the fluid: fluid particles within a spacing beyond it. An outlet that no fluid
+    // reaches yet (the sheets of a jet on a plate arrive later) is accepted unless fluid lies beyond its outer
+    // face instead, the signature of a reversed direction
+    bool faces_fluid = false, faces_back = false;
     for (std::size_t i = 0; i < n && !faces_fluid; ++i) {
       if (f.kind[i] != 0 || !beside(z, f.x[i])) continue;
       const Real d = distance(z, f.x[i]);
       faces_fluid = d > 0 && d < Real(dx);
+      faces_back = faces_back || (d < -z.depth && d > -z.depth - Real(dx));
     }
-    if (!faces_fluid)
+    if (!faces_fluid && (z.inlet || faces_back))
       throw InputError(key(k, "direction") + "no fluid lies within a spacing beyond the zone's face at " +
                        std::to_string(double(z.face)) + " on axis " + std::to_string(z.axis) +
                        ": the direction must point from the zone into the fluid");

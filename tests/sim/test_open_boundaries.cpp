@@ -472,3 +472,21 @@ TEST(OpenBoundaries, FreeSurfaceInletBadInputNamesTheKey) {
   // what a scene does not name is unchanged: the film's outlet has no level, the channel's zones none
   EXPECT_FALSE(channel().open_boundaries[0].surface);
 }
+
+// An outlet that no fluid reaches at the start (the sheets of a jet on a plate arrive later) is accepted with
+// an empty lattice; an outlet whose direction is reversed (fluid beyond its outer face, none beyond its
+// interface) is still refused naming its direction.
+TEST(OpenBoundaries, OutletsTheFlowReachesLaterAreAcceptedReversedOnesRefused) {
+  const scene::Scene s = scene::parse_scene(test::source_dir() / "pipelines/open/jet_plate_inlet.json");
+  Simulation<2> sim(s);
+  const auto& zone = sim.store().get<std::int32_t>("open_zone");
+  std::size_t in = 0, out = 0;
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    in += zone[i] == 0;
+    out += zone[i] > 0;
+  }
+  EXPECT_EQ(in, 4u * 20u);  // the inlet's lattice, 4 x 20
+  EXPECT_EQ(out, 0u);       // no fluid beside the outlets yet: no buffer
+  const std::string e = input_error({"open_boundaries.1.direction=[1.0,0.0]"});
+  EXPECT_NE(e.find("key 'open_boundaries.1.direction' (zone 'out')"), std::string::npos) << e;
+}
