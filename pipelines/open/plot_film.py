@@ -80,7 +80,7 @@ def main():
         k = rows == r
         table.append((float(np.mean(y[mid][k])), float(np.mean(u[mid][k])), float(np.mean(u[mid][k] - exact(y[mid][k]))), int(k.sum())))
     err = max(abs(t[2]) for t in table) / us
-    cols = np.floor((x - x0) / dx).astype(int)
+    cols = np.floor((x - x0) / (2 * dx)).astype(int)  # columns of two spacings: every one holds a top particle
     depth = {c: y[cols == c].max() + dx / 2 for c in sorted(set(cols))}
     post = os.path.join(a.run, "post")
     os.makedirs(post, exist_ok=True)
@@ -107,7 +107,8 @@ def main():
     ax[0].set_title("profile, middle third (row error max %.2f %% of u_s)" % (100 * err))
     ax[0].legend(fontsize=8)
     cs = sorted(depth)
-    ax[1].plot([(x0 + (c + 0.5) * dx) * 1e3 for c in cs], [depth[c] / H for c in cs], "-", color="tab:blue", label="SPH: top particle + dx/2")
+    ax[1].plot([(x0 + (c + 0.5) * 2 * dx) * 1e3 for c in cs], [depth[c] / H for c in cs], "-", color="tab:blue",
+               label="SPH: top particle + dx/2 (columns of 2 dx)")
     ax[1].axhline(1.0, color="k", lw=0.8, label="imposed level H")
     ax[1].set_xlabel("x along the bed [mm]")
     ax[1].set_ylabel("film depth / H")
