@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "bodies/rigid_bodies.hpp"
 #include "scene/scene.hpp"
@@ -35,22 +36,46 @@ double fluid_volume(const Simulation<D>& sim) {
 // plan area A, the body's plan area a: level = (V_fluid + a d) / A, d = rel x h). Returns the error / h.
 template <int D>
 double archimedes_error(const std::string& name, double rel, double t_end, double tank_area, double body_area,
-                        double h, const std::vector<std::string>& extra = {}) {
+                        double h, const std::vector<std::string>& extra = {}, bool whole_cycles = false) {
   std::vector<std::string> o = {"bodies.2.density=" + std::to_string(1000 * rel), "time.end=" + std::to_string(t_end)};
   o.insert(o.end(), extra.begin(), extra.end());
   Simulation<D> sim(scene::parse_scene(scene_file(name), o));
   const auto& b = sim.rigid_bodies()->bodies().at(0);
   // start 0.1 h above the analytic draft (the scene's box sits at the 0.5 case's: move it)
   double sum = 0, weight = 0, vol = 0;
+  std::vector<double> ts, zs;  // the centre's height over the second half
   while (sim.time() < t_end) {
     sim.advance();
     if (sim.time() > 0.5 * t_end) {
       sum += b.x[D - 1] * sim.dt();
       weight += sim.dt();
       vol += fluid_volume(sim) * sim.dt();
+      ts.push_back(sim.time());
+      zs.push_back(b.x[D - 1]);
     }
   }
-  const double mean = sum / weight, V = vol / weight, d = rel * h;
+  double mean = sum / weight;
+  if (whole_cycles) {
+    // The 3D bodies heave about their equilibrium with little damping (period ~0.6 s): a plain mean over a part
+    // of a cycle is off by a fraction of the amplitude. Mean over whole cycles: from the first to the last upward
+    // crossing of the mean, twice (pipelines/bodies/archimedes_3d.py does the same on bodies.csv).
+    const double plain = mean;
+    for (int it = 0; it < 2; ++it) {
+      std::size_t first = 0, last = 0;
+      for (std::size_t k = 1; k < zs.size(); ++k)
+        if (zs[k - 1] < mean && zs[k] >= mean) (first == 0 ? first : last) = k;
+      if (first == 0 || last == 0) break;
+      double num = 0, den = 0;
+      for (std::size_t k = first + 1; k <= last; ++k) {
+        num += 0.5 * (zs[k] + zs[k - 1]) * (ts[k] - ts[k - 1]);
+        den += ts[k] - ts[k - 1];
+      }
+      mean = num / den;
+    }
+    std::printf("archimedes %s rel %.2f: plain mean of the second half %.5f m, over whole cycles %.5f m\n",
+                name.c_str(), rel, plain, mean);
+  }
+  const double V = vol / weight, d = rel * h;
   const double level = (V + body_area * d) / tank_area;
   const double expected = level - d + 0.5 * h;
   std::printf("archimedes %s rel %.2f: centre %.5f m, expected %.5f m (level %.5f), error %.2f %% of h, final angle %.4f\n",
@@ -88,10 +113,33 @@ TEST(BodiesValidation, FloatingBoxes2DSettleAtTheArchimedesDraft) {
   }
 }
 
-TEST(BodiesValidation, FloatingBox3DSettlesAtTheArchimedesDraft) {
-  const double e = archimedes_error<3>("floating_box_3d", 0.5, 1.5, 0.36, 0.04, 0.1);
-  EXPECT_LT(std::abs(e), 0.01);
+// 3D: a box 0.2 x 0.2 x 0.1 m and a vertical cylinder R = 0.1 m, 0.1 m long, in a 0.6 m square tank, at 0.3, 0.5
+// and 0.8 of the water's density (both stable in roll and pitch at every density: BM > KG - KB). One run each
+// (2 s simulated, ~15 min on one core of the shared machine), so one test per case: --gtest_filter=*Archimedes3D*box_0_3 runs one.
+struct Archimedes3DCase {
+  const char* scene;
+  double rel, body_area;
+};
+void PrintTo(const Archimedes3DCase& c, std::ostream* os) { *os << c.scene << " at relative density " << c.rel; }
+class Archimedes3D : public ::testing::TestWithParam<Archimedes3DCase> {};
+
+TEST_P(Archimedes3D, SettlesAtTheDraftWithinOnePercentOfItsHeight) {
+  const auto c = GetParam();
+  const double e = archimedes_error<3>(c.scene, c.rel, 2.0, 0.36, c.body_area, 0.1, {}, true);
+  EXPECT_LT(std::abs(e), 0.01) << c.scene << " at relative density " << c.rel;  // issue 30's goal
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    BodiesValidation, Archimedes3D,
+    ::testing::Values(Archimedes3DCase{"floating_box_3d", 0.3, 0.04}, Archimedes3DCase{"floating_box_3d", 0.5, 0.04},
+                      Archimedes3DCase{"floating_box_3d", 0.8, 0.04},
+                      Archimedes3DCase{"floating_cylinder_3d", 0.3, M_PI * 0.01},
+                      Archimedes3DCase{"floating_cylinder_3d", 0.5, M_PI * 0.01},
+                      Archimedes3DCase{"floating_cylinder_3d", 0.8, M_PI * 0.01}),
+    [](const auto& info) {
+      std::string n = std::string(info.param.scene).substr(9) + "_" + std::to_string(int(info.param.rel * 10));
+      return n;
+    });
 
 // a = (rho_s - rho_f) g / (rho_s + C_a rho_f), C_a = 1 for a circle. The tank rings acoustically after the
 // release (the force swings by +-70 % at the period of a sound wave across it, ~0.05 s), so the acceleration
