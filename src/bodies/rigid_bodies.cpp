@@ -164,6 +164,13 @@ RigidBodies<D>::RigidBodies(const scene::Scene& s, ParticleStore& store, Particl
   for (const auto& b : bodies_) total += b.count;
   dense_.assign(12 * total, 0.0);
   rot_.assign(bodies_.size(), Eigen::Matrix3d::Identity());
+  // the variational integrator's per-body scratch, sized once (the body count never changes)
+  r1_force_.assign(bodies_.size(), Eigen::Vector3d::Zero());
+  r1_torque_.assign(bodies_.size(), Eigen::Vector3d::Zero());
+  at_qk_.assign(bodies_.size(), BodyLoads{});
+  trial_ = bodies_;
+  chord_x_.assign(bodies_.size(), Eigen::Vector3d::Zero());
+  chord_r_.assign(bodies_.size(), Eigen::Matrix3d::Zero());
 }
 
 template <int D>
@@ -370,19 +377,18 @@ void RigidBodies<D>::step_body(RigidBody& b, const Eigen::Vector3d& F, const Eig
         const Eigen::Vector3d& e = b.hinge_axis;
         al = e * (e.dot(T) / e.dot(Iw * e));  // rotation about the fixed axis only
       } else {
-        std::vector<int> free;
-        for (int a = 0; a < 3; ++a)
-          if (!b.lock_r[std::size_t(a)]) free.push_back(a);
-        if (!free.empty()) {
-          Eigen::MatrixXd A(free.size(), free.size());
-          Eigen::VectorXd y(free.size());
-          for (std::size_t i = 0; i < free.size(); ++i) {
-            y[Eigen::Index(i)] = rhs[free[i]];
-            for (std::size_t j = 0; j < free.size(); ++j) A(Eigen::Index(i), Eigen::Index(j)) = Iw(free[i], free[j]);
-          }
-          const Eigen::VectorXd s = A.ldlt().solve(y);
-          for (std::size_t i = 0; i < free.size(); ++i) al[free[i]] = s[Eigen::Index(i)];
+        // the free rows and columns of I, the locked ones replaced by the identity (their al stays 0)
+        Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+        Eigen::Vector3d y = Eigen::Vector3d::Zero();
+        for (int i = 0; i < 3; ++i) {
+          if (b.lock_r[std::size_t(i)]) continue;
+          y[i] = rhs[i];
+          for (int j = 0; j < 3; ++j)
+            if (!b.lock_r[std::size_t(j)]) A(i, j) = Iw(i, j);
         }
+        al = A.ldlt().solve(y);
+        for (int a = 0; a < 3; ++a)
+          if (b.lock_r[std::size_t(a)]) al[a] = 0;
       }
       Eigen::Vector3d wn = b.w;
       for (int a = 0; a < 3; ++a)
@@ -426,12 +432,22 @@ void RigidBodies<D>::evaluate_loads(Simulation<D>& sim) {
 }
 
 template <int D>
+void RigidBodies<D>::variational_begin(Simulation<D>& sim, bool gamma_at_qk) {
+  team_single([&] { started_ = std::chrono::steady_clock::now(); });
+  // contact and moorings at q_k, with the reaction of Gamma_k (eq. 58 at q_k) when the walls are repulsive
+  reduce_loads(sim, gamma_at_qk ? &sim.rates() : nullptr, sim.current_view(), true);
+  team_single([&] {
+    for (std::size_t k = 0; k < bodies_.size(); ++k) at_qk_[k] = bodies_[k].loads;
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  });
+}
+
+template <int D>
 void RigidBodies<D>::midpoint_loads(Simulation<D>& sim, const physics::Rates<D>& rates,
                                     const physics::ParticleView<D>& view, bool replace) {
+  team_single([&] { started_ = std::chrono::steady_clock::now(); });
   reduce_loads(sim, &rates, view, false);
   team_single([&] {
-    r1_force_.resize(bodies_.size());  // once: the body count never changes
-    r1_torque_.resize(bodies_.size());
     for (std::size_t k = 0; k < bodies_.size(); ++k) {
       auto& b = bodies_[k];
       if (replace) {  // a2 rebuilt (first step, dt change, restart): R2 is this reaction
@@ -441,31 +457,55 @@ void RigidBodies<D>::midpoint_loads(Simulation<D>& sim, const physics::Rates<D>&
       r1_force_[k] = b.loads.fluid_force;
       r1_torque_[k] = b.loads.fluid_torque;
     }
+    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
   });
 }
 
 template <int D>
-void RigidBodies<D>::advance_variational(Simulation<D>& sim, double dt, double alpha, bool gamma_at_qk) {
-  team_single([&] { started_ = std::chrono::steady_clock::now(); });
-  // contact and moorings at q_k, with the reaction of Gamma_k (eq. 58 at q_k) when the walls are repulsive
-  reduce_loads(sim, gamma_at_qk ? &sim.rates() : nullptr, sim.current_view(), true);
+void RigidBodies<D>::variational_trial(Simulation<D>& sim, double dt, double alpha, bool predictor, Vec<D>* v_out) {
   const Eigen::Vector3d g = v3<D>(sim.rates().body_acceleration());
   team_single([&] {
-    const double w1 = 1 - alpha, w2 = alpha;
+    const double w1 = predictor ? 0.0 : 1 - alpha, w2 = predictor ? 1.0 : alpha;
     for (std::size_t k = 0; k < bodies_.size(); ++k) {
-      auto& b = bodies_[k];
-      BodyLoads& l = b.loads;
-      // eq. (63) for the bodies: the reaction of (1 - alpha) a1 + alpha a2 (+ Gamma_k)
-      l.fluid_force += w1 * r1_force_[k] + w2 * b.mid_force;
-      l.fluid_torque += w1 * r1_torque_[k] + w2 * b.mid_torque;
-      b.mid_force = r1_force_[k];  // a1 becomes the next step's a2
-      b.mid_torque = r1_torque_[k];
-      const Eigen::Vector3d F = l.fluid_force + l.contact_force + l.mooring_force + b.mp.mass * g;
-      const Eigen::Vector3d T = l.fluid_torque + l.contact_torque + l.mooring_torque;
-      step_body(b, F, T, dt, 1.0);  // V_{k+1/2} = V_{k-1/2} + dt A, X_{k+1} = X_k + dt V_{k+1/2}
-      check_in_domain(b, sim.time() + dt);
+      const RigidBody& b = bodies_[k];
+      const BodyLoads& q = at_qk_[k];
+      // eq. (63) for the bodies: the reaction of (1 - alpha) a1 + alpha a2 (+ Gamma_k), contact, moorings
+      const Eigen::Vector3d F = w1 * r1_force_[k] + w2 * b.mid_force + q.fluid_force + q.contact_force +
+                                q.mooring_force + b.mp.mass * g;
+      const Eigen::Vector3d T = w1 * r1_torque_[k] + w2 * b.mid_torque + q.fluid_torque + q.contact_torque +
+                                q.mooring_torque;
+      trial_[k] = b;
+      step_body(trial_[k], F, T, dt, 1.0);  // V_{k+1/2} = V_{k-1/2} + dt A, X_{k+1} = X_k + dt V_{k+1/2}
+      trial_[k].loads.fluid_force = w1 * r1_force_[k] + w2 * b.mid_force + q.fluid_force;
+      trial_[k].loads.fluid_torque = w1 * r1_torque_[k] + w2 * b.mid_torque + q.fluid_torque;
+      trial_[k].loads.contact_force = q.contact_force;
+      trial_[k].loads.contact_torque = q.contact_torque;
+      trial_[k].loads.mooring_force = q.mooring_force;
+      trial_[k].loads.mooring_torque = q.mooring_torque;
+      chord_x_[k] = (trial_[k].x - b.x) / dt;
+      chord_r_[k] = (trial_[k].q.toRotationMatrix() - b.q.toRotationMatrix()) / dt;
     }
-    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  });
+  // each body particle's chord velocity (x_{k+1} - x_k) / dt: its velocity in the fixed point (the fluid's
+  // v_{k+1/2} is the same chord); offsets from the body frame, not x_i (a periodic axis may have wrapped it)
+  auto& f = sim.fields();
+  for_each_particle(sim.size(), [&](std::size_t i) {
+    const int k = rigid_of(f.body[i]);
+    if (k < 0 || f.kind[i] == 0) return;
+    v_out[i] = vd<D>(chord_x_[std::size_t(k)] + chord_r_[std::size_t(k)] * v3<D>((*local_)[i]));
+  });
+}
+
+template <int D>
+void RigidBodies<D>::variational_accept(Simulation<D>& sim, double dt) {
+  team_single([&] {
+    for (std::size_t k = 0; k < bodies_.size(); ++k) {
+      const Eigen::Vector3d r1f = r1_force_[k], r1t = r1_torque_[k];
+      bodies_[k] = trial_[k];
+      bodies_[k].mid_force = r1f;  // a1 becomes the next step's a2
+      bodies_[k].mid_torque = r1t;
+      check_in_domain(bodies_[k], sim.time() + dt);
+    }
   });
 }
 

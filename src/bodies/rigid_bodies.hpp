@@ -97,19 +97,26 @@ class RigidBodies {
   // Loads at the current state without advancing (for outputs at t = 0 and tests).
   void evaluate_loads(Simulation<D>& sim);
 
-  // The variational integrator (docs/bodies.md "Integrators"). The fluid's update is eq. (63),
-  // v_{k+1/2} = v_{k-1/2} + dt [(1 - alpha) a1 + alpha a2 + Gamma_k], with a1 at the new generalised
-  // midpoint, a2 at the previous one and Gamma_k (repulsive walls) at q_k. The bodies take the exact
-  // reaction of each term, so fluid and bodies exchange momentum to round-off:
-  //   midpoint_loads(): the reaction of `rates` at the midpoint `view` into each body's mid_force /
-  //     mid_torque after keeping the previous ones (or replacing them: `replace`, for a rebuilt a2);
-  //   advance_variational(): F = (1 - alpha) R1 + alpha R2 (+ the reaction of Gamma_k at q_k when
-  //     `gamma_at_qk`), contact, moorings and gravity at q_k; V and X as the fluid's v and x (drift 1).
-  // Bodies sit at q_k during the fixed-point iterations like every boundary particle (the map F and its
-  // contraction are those of the fluid alone): they are advanced once per accepted step.
+  // The variational integrator (docs/bodies.md "The paper's variational integrator"). The fluid's update is
+  // eq. (63), v_{k+1/2} = v_{k-1/2} + dt [(1 - alpha) a1 + alpha a2 + Gamma_k], with a1 at the new generalised
+  // midpoint, a2 at the previous one and Gamma_k (repulsive walls) at q_k. The bodies are unknowns of the same
+  // fixed point: each iterate places their particles at the midpoint (1 - alpha) x_k + alpha x_{k+1} of a
+  // trial rigid step, and the reaction of a1 there gives the next trial. They take the exact reaction of
+  // every term, so fluid and bodies exchange momentum to round-off:
+  //   variational_begin(): once per step, at q_k: contact, moorings and (repulsive walls) the reaction of
+  //     Gamma_k;
+  //   midpoint_loads(): the reaction of `rates` at the midpoint `view` (R1; with `replace`, also R2: a2 rebuilt);
+  //   variational_trial(): the rigid step from the state at q_k with F = (1 - alpha) R1 + alpha R2 + the loads
+  //     at q_k + M g (the predictor: R2 for R1), and each body particle's chord velocity (x_{k+1} - x_k) / dt
+  //     into v_out, the velocity its midpoint and the fixed point's residual are taken from;
+  //   variational_accept(): the last trial becomes the state, R1 the next step's R2.
+  void variational_begin(Simulation<D>& sim, bool gamma_at_qk);
   void midpoint_loads(Simulation<D>& sim, const physics::Rates<D>& rates, const physics::ParticleView<D>& view,
                       bool replace);
-  void advance_variational(Simulation<D>& sim, double dt, double alpha, bool gamma_at_qk);
+  void variational_trial(Simulation<D>& sim, double dt, double alpha, bool predictor, Vec<D>* v_out);
+  void variational_accept(Simulation<D>& sim, double dt);
+  // True for the particles of a rigid body (by their scene body index).
+  bool is_rigid(std::int32_t scene_body) const { return rigid_of(scene_body) >= 0; }
 
   // Total linear and angular momentum (about the origin) of the bodies [kg m/s, kg m^2/s].
   Eigen::Vector3d momentum() const;
@@ -143,6 +150,10 @@ class RigidBodies {
   Field<Vec<D>>* local_normal_ = nullptr;     // body-frame normal
   std::vector<Vec<D>> react_, contact_f_;     // per particle (sized once, grown with the store)
   std::vector<Eigen::Vector3d> r1_force_, r1_torque_;  // per body: the new midpoint's reaction (variational)
+  std::vector<BodyLoads> at_qk_;                       // per body: contact, moorings, Gamma_k at q_k (variational)
+  std::vector<RigidBody> trial_;                       // per body: the fixed point's trial state at t_{k+1}
+  std::vector<Eigen::Vector3d> chord_x_;               // per body: (X_{k+1} - X_k) / dt of the trial
+  std::vector<Eigen::Matrix3d> chord_r_;               // per body: (R_{k+1} - R_k) / dt of the trial
   mutable std::vector<Eigen::Matrix3d> rot_;  // per body, refreshed by place()
   std::vector<double> dense_;                 // 12 per body particle: fluid f, r x f, contact f, r x f
   scene::ContactSpec contact_;

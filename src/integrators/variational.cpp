@@ -138,12 +138,17 @@ template <int D>
 Real VariationalIntegrator<D>::make_midpoint(Simulation<D>& sim, std::span<const Vec<D>> v, Real s) {
   auto& f = sim.fields();
   const std::size_t n = sim.size();
+  // fluid particles, and the particles of rigid bodies (unknowns of the fixed point like the fluid: their
+  // entry of v is their chord velocity); every other boundary particle stays at q_k
+  const auto* bodies = sim.rigid_bodies();
+  const std::int32_t* kind = f.kind.data.data();
+  const std::int32_t* body = f.body.data.data();
+  const auto moves = [&](std::size_t i) { return kind[i] == 0 || (bodies && bodies->is_rigid(body[i])); };
   Real vmax = 0;  // a max: the same for any thread count
   {
-    const std::int32_t* kind = f.kind.data.data();
     const Vec<D>* vv = v.data();
     vmax = Real(team_max2(long(n), [&](long i, double& m, double&) {
-                  if (kind[i] == 0) m = std::max(m, double(vv[i].squaredNorm()));
+                  if (moves(std::size_t(i))) m = std::max(m, double(vv[i].squaredNorm()));
                 }).first);
   }
   vmax = Real(sim.global_max(double(vmax)));  // every rank widens the skin together
@@ -152,12 +157,13 @@ Real VariationalIntegrator<D>::make_midpoint(Simulation<D>& sim, std::span<const
   if (Real(2) * shift > sim.skin()) {  // the grid must widen: re-sorts (once per team, core/team.hpp)
     team_single([&] { skin_ok_ = ensure_skin(sim, shift); });
     if (!skin_ok_) return -1;
+    kind = f.kind.data.data();  // the sort permuted every field in place
+    body = f.body.data.data();
   }
   Vec<D>* m = mid_->data.data();
   const Vec<D>* x = f.x.data.data();
-  const std::int32_t* kind = f.kind.data.data();
   const Vec<D>* vv = v.data();
-  for_each_particle(n, [&](std::size_t i) { m[i] = kind[i] == 0 ? Vec<D>(x[i] + s * vv[i]) : x[i]; });
+  for_each_particle(n, [&](std::size_t i) { m[i] = moves(i) ? Vec<D>(x[i] + s * vv[i]) : x[i]; });
   return shift;
 }
 
@@ -197,6 +203,12 @@ void VariationalIntegrator<D>::body_midpoint_loads(Simulation<D>& sim, bool repl
   // the view of the last eval_midpoint: its positions, velocities, densities and pressures
   const physics::ParticleView<D> s{mid_->data, eval_v_, rho1_->data, p1_->data, f.mass.data, f.kind.data};
   bodies->midpoint_loads(sim, *fluid_rates_, s, replace);
+}
+
+template <int D>
+void VariationalIntegrator<D>::loads_at_qk(Simulation<D>& sim) {
+  compute_gamma(sim);
+  if (auto* bodies = sim.rigid_bodies()) bodies->variational_begin(sim, has_wall_);
 }
 
 template <int D>
@@ -247,6 +259,10 @@ bool VariationalIntegrator<D>::apply_F(Simulation<D>& sim, Real dt, std::span<co
     // eq. (63) in velocity form: v_{k+1/2} = v_{k-1/2} + dt [(1-alpha) a1 + alpha a2 + Gamma_k]
     v_out[i] = kind[i] == 0 ? Vec<D>(v[i] + dt * (w1 * a1[i] + w2 * a2[i] + g[i])) : v[i];
   });
+  if (auto* bodies = sim.rigid_bodies()) {  // the bodies' trial step from the reaction of this a1
+    body_midpoint_loads(sim, false);
+    bodies->variational_trial(sim, dt, alpha_, false, v_out);
+  }
   return true;
 }
 
@@ -279,6 +295,7 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
     } else {
       for_each_particle(n, [&](std::size_t i) { vi[i] = kind[i] == 0 ? Vec<D>(v[i] + dt * (a2[i] + g[i])) : v[i]; });
     }
+    if (auto* bodies = sim.rigid_bodies()) bodies->variational_trial(sim, dt, alpha_, true, vi);  // R1 ~ R2
   }
   int diverging = 0;
   double prev = 0;
@@ -289,13 +306,16 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
       too_far = true;
       break;
     }
-    double r2 = 0;  // a max: the same for any thread count
+    double r2 = 0;  // a max over the fluid and the bodies' particles: the same for any thread count
     {
       const std::int32_t* kind = f.kind.data.data();
+      const std::int32_t* body = f.body.data.data();
+      const auto* bodies = sim.rigid_bodies();
       const Vec<D>* vn = vnew_->data.data();
       const Vec<D>* vo = vit_->data.data();
       r2 = team_max2(long(n), [&](long i, double& m, double&) {
-             if (kind[i] == 0) m = std::max(m, double((vn[i] - vo[i]).squaredNorm()));
+             if (kind[i] == 0 || (bodies && bodies->is_rigid(body[i])))
+               m = std::max(m, double((vn[i] - vo[i]).squaredNorm()));
            }).first;
     }
     r2 = sim.global_max(r2);  // the convergence test over every rank's particles
@@ -338,7 +358,7 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
   double dt = sim.choose_dt() / double(1L << halvings_);
   if (dt != dt_prev_ && !explicit_) rebuild_previous(sim, dt_prev_, dt);  // regrowth, CFL change, restart
   sim.set_dt(dt);
-  compute_gamma(sim);
+  loads_at_qk(sim);
   StepReport rep;
   std::string history;
   while (!solve(sim, Real(dt), rep, history)) {
@@ -368,11 +388,8 @@ StepReport VariationalIntegrator<D>::step(Simulation<D>& sim) {
     if (rep.contraction > 0) last_bound_ = dt / std::sqrt(rep.contraction);  // eq. (54) with M1 ~ c
   });
   rep.dt_bound = last_bound_;
-  // rigid bodies: the reaction of a1 at the accepted iterate, then their step from q_k (eq. 63 for them)
-  if (auto* bodies = sim.rigid_bodies()) {
-    body_midpoint_loads(sim, false);
-    bodies->advance_variational(sim, dt, alpha_, has_wall_);
-  }
+  // rigid bodies: the trial of the accepted iterate is their step (eq. 63 for them)
+  if (auto* bodies = sim.rigid_bodies()) bodies->variational_accept(sim, dt);
   // accept: v_{k+1/2}, q_{k+1}; a1 (at the accepted iterate) becomes the next step's a2
   {
     const Real w1 = Real(1 - alpha_), w2 = Real(alpha_), h = Real(dt);
@@ -423,11 +440,14 @@ double VariationalIntegrator<D>::estimate_contraction(Simulation<D>& sim) {
   auto& f = sim.fields();
   const std::size_t n = sim.size();
   const Real dt = Real(sim.dt());
-  compute_gamma(sim);
+  loads_at_qk(sim);
   {  // widen the skin first so that no re-sort happens while local copies are held below
     Real vmax = 0;
-    for (std::size_t i = 0; i < n; ++i)
+    const auto* bodies = sim.rigid_bodies();
+    for (std::size_t i = 0; i < n; ++i) {
       if (f.kind[i] == 0) vmax = std::max(vmax, (f.v[i] + dt * (a2_->data[i] + gamma_->data[i])).norm());
+      else if (bodies && bodies->is_rigid(f.body[i])) vmax = std::max(vmax, Real(2) * f.v[i].norm());  // a trial's chord
+    }
     vmax = Real(sim.global_max(double(vmax)));
     if (!ensure_skin(sim, Real(1.1) * Real(alpha_) * dt * vmax + Real(1e-9) * Real(sim.scene().spacing))) return 0;
   }

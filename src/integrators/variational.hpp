@@ -76,6 +76,8 @@ class VariationalIntegrator final : public Integrator<D> {
   // rho_base + dt_rho * drho (continuity) or by summation.
   void eval_midpoint(Simulation<D>& sim, std::span<const Vec<D>> v, Real dt_rho, Vec<D>* a_out);
   void compute_gamma(Simulation<D>& sim);
+  // Gamma_k and the rigid bodies' loads at q_k (contact, moorings, the reaction of Gamma_k): once per step
+  void loads_at_qk(Simulation<D>& sim);
   // Rebuilds rho_{k-1,k} and a2 so they belong to the previous interval seen with step dt_new
   // (q_{k-1} = q_k - dt_new v_{k-1/2}); rho moves by (1-alpha)(dt_old - dt_new) drho.
   void rebuild_previous(Simulation<D>& sim, double dt_old, double dt_new);

@@ -68,7 +68,7 @@ TEST(MpiRuns, FloatingBodiesOnTwoAndThreeRanksEqualOneProcessBitwise) {
 
 TEST(MpiRuns, FloatingBodiesUnderTheVariationalIntegratorOnTwoAndThreeRanksEqualOneProcessBitwise) {
   // the same box under the paper's scheme (repulsive walls, alpha 0.5): the midpoint reactions R(a1), R(a2) and
-  // Gamma_k's reduced over the ranks (bodies/rigid_bodies.hpp, advance_variational)
+  // Gamma_k's reduced over the ranks inside every fixed-point iterate (bodies/rigid_bodies.hpp, variational_trial)
   const std::string args = "--set particles.spacing=0.01 --set time.end=0.03 --set output.every=0.03 "
                            "--set 'bodies.2.angular_velocity=[1.0]' --set 'boundary.model=\"repulsive\"' "
                            "--set physics.riemann=null --set 'physics.artificial_viscosity={\"alpha\": 0.1}' "
