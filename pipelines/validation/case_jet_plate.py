@@ -39,18 +39,27 @@ T_AFTER_CONTACT, T_BEFORE_TAIL = 3.0, 2.0  # window margins in units of b / U
 
 
 def geometry(scene, dx):
-    """Slab width b (lattice rows x dx), length, speed U, gap to the plate, rho0 from the scene dict."""
+    """Slab width b (lattice rows x dx), length, speed U, gap to the plate, rho0 from the scene dict. A scene
+    with an inlet (pipelines/open/jet_plate_inlet.json) feeds the jet for ever: b is the inlet zone's width,
+    U its uniform speed, and the window runs to the end of the run (Ls = None)."""
     jet = next(b for b in scene["bodies"] if b["kind"] == "fluid")
     plate = scene["bodies"][next(p["body"] for p in scene["probes"] if p["type"] == "force")]
     rows = math.floor((jet["max"][1] - jet["min"][1]) / dx + 1e-6)
     cols = math.floor((jet["max"][0] - jet["min"][0]) / dx + 1e-6)
     U = float(jet["velocity"][0])
-    return {"b": rows * dx, "Ls": cols * dx, "U": U, "gap": plate["min"][0] - (jet["min"][0] + cols * dx),
-            "rho0": float(scene.get("fluid", {}).get("rho0", 1000.0))}
+    g = {"b": rows * dx, "Ls": cols * dx, "U": U, "gap": plate["min"][0] - (jet["min"][0] + cols * dx),
+         "rho0": float(scene.get("fluid", {}).get("rho0", 1000.0))}
+    inlet = next((z for z in scene.get("open_boundaries", []) if z["kind"] == "inlet"), None)
+    if inlet:
+        g.update(b=round((inlet["max"][1] - inlet["min"][1]) / dx) * dx, U=float(inlet["velocity"]["value"]), Ls=None,
+                 t_end=float(scene["time"]["end"]))
+    return g
 
 
 def window(g):
     t0 = g["gap"] / g["U"]
+    if g["Ls"] is None:  # an inlet: steady from a few b / U after the contact to the end of the run
+        return t0, t0 + T_AFTER_CONTACT * g["b"] / g["U"], g["t_end"]
     return t0, t0 + T_AFTER_CONTACT * g["b"] / g["U"], t0 + g["Ls"] / g["U"] - T_BEFORE_TAIL * g["b"] / g["U"]
 
 
@@ -73,7 +82,7 @@ def evaluate(rundir, scene, dx):
     p_ref = 0.5 * g["rho0"] * g["U"] ** 2
     t0, a, b = window(g)
     m = {"b": g["b"], "U": g["U"], "F_ref": F_ref, "p_ref": p_ref, "t_contact": t0, "window": [a, b]}
-    if t[-1] < b:
+    if t[-1] < b - 1e-9:
         m.update(force_err=float("nan"), p_stag_err=float("nan"), error=float("nan"))
         return m, (t, Fx / F_ref, ps / p_ref)
     fm, fs, fd = stats(t, Fx, a, b)

@@ -1,5 +1,6 @@
 #include "scene/parse_open.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -13,10 +14,13 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 std::string at(const std::string& base, const std::string& key) { return base + "." + key; }
 
-// profile "file": CSV rows "time,speed" (a header line of text is allowed); checked row by row
-void read_series(JsonReader& r, const std::string& key, const std::filesystem::path& file, OpenZoneSpec& z) {
+// a CSV file of rows "time,value" (a header line of text is allowed), checked row by row: numbers, finite,
+// strictly increasing times, and `bad(value)` (empty when the value is acceptable, else what is expected)
+template <class Check>
+void read_series(JsonReader& r, const std::string& key, const std::filesystem::path& file, const std::string& value,
+                 std::vector<double>& ts, std::vector<double>& vs, Check bad) {
   std::ifstream in(file);
-  if (!in) r.fail_got(key, "a readable CSV file of rows time,speed (path relative to the scene file)", json(file.string()));
+  if (!in) r.fail_got(key, "a readable CSV file of rows time," + value + " (path relative to the scene file)", json(file.string()));
   std::string line;
   long row = 0;
   while (std::getline(in, line)) {
@@ -30,28 +34,76 @@ void read_series(JsonReader& r, const std::string& key, const std::filesystem::p
     char* end = nullptr;
     const double t = std::strtod(a.c_str(), &end);
     const bool number_t = !a.empty() && end && *end == '\0';
-    if (!number_t && z.series_t.empty() && row == 1) continue;  // a header line
+    if (!number_t && ts.empty() && row == 1) continue;  // a header line
     const double u = std::strtod(b.c_str(), &end);
     const bool number_u = !b.empty() && end && *end == '\0';
     const std::string where = file.string() + " line " + std::to_string(row);
-    if (!number_t || !number_u) r.fail_got(key, "rows of two numbers time,speed (" + where + ")", json(line));
-    if (!std::isfinite(t) || !std::isfinite(u)) r.fail_got(key, "finite times and speeds (" + where + ")", json(line));
-    if (!z.series_t.empty() && !(t > z.series_t.back()))
+    if (!number_t || !number_u) r.fail_got(key, "rows of two numbers time," + value + " (" + where + ")", json(line));
+    if (!std::isfinite(t) || !std::isfinite(u)) r.fail_got(key, "finite times and " + value + "s (" + where + ")", json(line));
+    if (!ts.empty() && !(t > ts.back()))
       r.fail_got(key, "strictly increasing times (" + where + ": " + std::to_string(t) + " after " +
-                          std::to_string(z.series_t.back()) + ")", json(line));
-    if (u < 0)
-      r.fail_got(key, "inflow speeds >= 0 along the zone's direction (" + where + ": a negative speed points out of the domain)",
-                 json(line));
-    z.series_t.push_back(t);
-    z.series_u.push_back(u);
+                          std::to_string(ts.back()) + ")", json(line));
+    if (const std::string e = bad(u); !e.empty()) r.fail_got(key, e + " (" + where + ")", json(line));
+    ts.push_back(t);
+    vs.push_back(u);
   }
-  if (z.series_t.empty()) r.fail_got(key, "at least one row time,speed", json(file.string()));
+  if (ts.empty()) r.fail_got(key, "at least one row time," + value, json(file.string()));
+}
+
+// linear in time between rows, held beyond the ends
+double interpolate(const std::vector<double>& ts, const std::vector<double>& vs, double t) {
+  if (t <= ts.front()) return vs.front();
+  if (t >= ts.back()) return vs.back();
+  std::size_t k = 1;
+  while (ts[k] < t) ++k;
+  const double w = (t - ts[k - 1]) / (ts[k] - ts[k - 1]);
+  return vs[k - 1] + w * (vs[k] - vs[k - 1]);
+}
+
+// `water_level` of an inlet: a number [m] or {"file": CSV time,level}; every level strictly above the zone's
+// bottom (the bed) and at most its top on the vertical axis (the last); the zone's direction horizontal
+void parse_water_level(JsonReader& r, const std::string& base, const Scene& s, OpenZoneSpec& z) {
+  const int v = s.dimension - 1;
+  const std::string key = at(base, "water_level");
+  const json* wl = r.raw(key);
+  if (z.kind != "inlet") r.fail(key, "no water level on an outlet (a free-surface level is an inlet key)");
+  if (z.axis == v)
+    r.fail_got(at(base, "direction"), "a horizontal direction for a zone with a water_level (the level is a coordinate on "
+                                      "axis " + std::to_string(v) + ", the vertical)", json(z.direction));
+  const double bed = z.min[v], top = z.max[v];
+  const auto bad = [&](double level) -> std::string {
+    std::ostringstream m;
+    if (!std::isfinite(level)) return "a finite water level [m]";
+    if (!(level > bed)) {
+      m << "a water level above the zone's bottom (the bed) at " << bed << " m on axis " << v << " (" << level
+        << " is at or below it: the inlet would be dry)";
+      return m.str();
+    }
+    if (level > top + 1e-12) {
+      m << "a water level at most the zone's top at " << top << " m on axis " << v << " (" << level
+        << " is above it: raise open_boundaries max or lower the level)";
+      return m.str();
+    }
+    return "";
+  };
+  z.surface = true;
+  if (wl->is_object()) {
+    r.expect_keys(key, {"file"});
+    const std::string f = r.text(at(key, "file"), std::nullopt);
+    std::filesystem::path p(f);
+    if (p.is_relative()) p = s.file.parent_path() / p;
+    read_series(r, at(key, "file"), p, "level", z.level_t, z.level_z, bad);
+    z.level = z.level_z.front();
+  } else {
+    z.level = r.number(key, std::nullopt, -kInf, kInf, "water level on the vertical axis [m]");
+    if (const std::string e = bad(z.level); !e.empty()) r.fail_got(key, e, json(z.level));
+  }
 }
 
 OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) {
   const int d = s.dimension;
-  r.expect_keys(base, {"name", "kind", "min", "max", "direction", "velocity", "pressure"});
-  r.expect_keys(at(base, "velocity"), {"profile", "value", "peak", "file", "ramp"});
+  r.expect_keys(base, {"name", "kind", "min", "max", "direction", "velocity", "pressure", "water_level"});
+  r.expect_keys(at(base, "velocity"), {"profile", "value", "peak", "file", "ramp", "roughness"});
   OpenZoneSpec z;
   z.name = r.text(at(base, "name"), std::nullopt);
   if (z.name.empty() || z.name.find_first_of("/\\ ") != std::string::npos)
@@ -87,12 +139,34 @@ OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) 
     r.fail_got(at(base, "direction"), "a direction from the zone into the domain (the zone's face at " + std::to_string(face) +
                                           " on axis " + std::to_string(z.axis) + " has no domain beyond it)",
                json(z.direction));
+  if (r.raw(at(base, "water_level"))) parse_water_level(r, base, s, z);
   if (z.kind == "inlet") {
-    z.profile = r.choice(at(base, "velocity.profile"), "uniform", {"uniform", "parabolic", "file"});
+    z.profile = r.choice(at(base, "velocity.profile"), "uniform", {"uniform", "parabolic", "log_law", "file"});
     if (z.profile == "uniform") {
       z.speed = r.number(at(base, "velocity.value"), std::nullopt, -kInf, kInf, "inflow speed along the direction [m/s]");
       if (!(z.speed > 0))
         r.fail_got(at(base, "velocity.value"), "an inflow speed > 0 along the zone's direction (a speed <= 0 points out of the domain)",
+                   json(z.speed));
+    } else if (z.profile == "log_law") {
+      if (!z.surface)
+        r.fail_got(at(base, "velocity.profile"), "\"uniform\", \"parabolic\" or \"file\" (\"log_law\" is the profile of a "
+                                                  "free-surface inlet: name its water_level)", json(z.profile));
+      z.speed = r.number(at(base, "velocity.value"), std::nullopt, -kInf, kInf, "depth-mean inflow speed along the direction [m/s]");
+      if (!(z.speed > 0))
+        r.fail_got(at(base, "velocity.value"), "an inflow speed > 0 along the zone's direction (a speed <= 0 points out of the domain)",
+                   json(z.speed));
+      z.roughness = r.number(at(base, "velocity.roughness"), std::nullopt, -kInf, kInf, "roughness length z0 of the bed [m]");
+      // the depth mean of ln(s / z0) over the water depth is ln(H / z0) - 1: it must be positive
+      const double depth_min = (z.level_t.empty() ? z.level : *std::min_element(z.level_z.begin(), z.level_z.end())) -
+                               z.min[std::size_t(d - 1)];
+      if (!(z.roughness > 0 && depth_min > std::exp(1.0) * z.roughness))
+        r.fail_got(at(base, "velocity.roughness"), "a roughness length z0 > 0 and below the water depth / e (" +
+                                                      std::to_string(depth_min / std::exp(1.0)) + " m here)", json(z.roughness));
+    } else if (z.profile == "parabolic" && z.surface) {
+      z.speed = r.number(at(base, "velocity.peak"), std::nullopt, -kInf, kInf,
+                         "surface speed of the open-channel profile u = peak (2 s / H - s^2 / H^2) [m/s]");
+      if (!(z.speed > 0))
+        r.fail_got(at(base, "velocity.peak"), "a peak speed > 0 along the zone's direction (a speed <= 0 points out of the domain)",
                    json(z.speed));
     } else if (z.profile == "parabolic") {
       if (d != 2) r.fail_got(at(base, "velocity.profile"), "\"uniform\" or \"file\" in 3D (\"parabolic\" is the 2D plane profile)",
@@ -106,15 +180,27 @@ OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) 
       const std::string f = r.text(at(base, "velocity.file"), std::nullopt);
       std::filesystem::path p(f);
       if (p.is_relative()) p = s.file.parent_path() / p;
-      read_series(r, at(base, "velocity.file"), p, z);
+      read_series(r, at(base, "velocity.file"), p, "speed", z.series_t, z.series_u, [](double u) -> std::string {
+        return u < 0 ? "inflow speeds >= 0 along the zone's direction (a negative speed points out of the domain)" : "";
+      });
     }
     // a smooth start: an inflow switched on at once sends a pressure wave of rho c0 u through the domain
     // (the water hammer), which an inlet (fixed velocity) and an outlet (fixed pressure) trap and ring
     z.ramp = r.number(at(base, "velocity.ramp"), 0.0, 0, kInf, "time over which the inflow rises from 0 [s]");
   }
   const json* pr = r.raw(at(base, "pressure"));
-  if (pr && pr->is_string()) {
-    r.choice(at(base, "pressure"), std::nullopt, {"extrapolated"});  // or a number [Pa]
+  if (z.surface && (!pr || (pr->is_string() && pr->get<std::string>() == "hydrostatic"))) {
+    // a free-surface inlet: hydrostatic from its level by default (DualSPHysics' rhopmode hydrostatic)
+    r.text(at(base, "pressure"), "hydrostatic");
+    const double gz = s.gravity[std::size_t(d - 1)];
+    if (!(gz < 0))
+      r.fail_got(at(base, "pressure"), "gravity with a downward component on the vertical axis " + std::to_string(d - 1) +
+                                           " for a hydrostatic inlet (or \"extrapolated\", or a number [Pa])",
+                 json("hydrostatic"));
+    z.hydrostatic = true;
+    z.pressure_extrapolated = false;
+  } else if (pr && pr->is_string()) {
+    r.choice(at(base, "pressure"), std::nullopt, {"extrapolated"});  // or a number [Pa]; "hydrostatic" with a water_level
     z.pressure_extrapolated = true;
   } else if (pr) {
     z.pressure = r.number(at(base, "pressure"), std::nullopt, -kInf, kInf, "prescribed pressure [Pa]");
@@ -137,18 +223,11 @@ bool boxes_overlap(const OpenZoneSpec& a, const OpenZoneSpec& b, int d) {
 
 }  // namespace
 
+double OpenZoneSpec::level_at(double t) const { return level_t.empty() ? level : interpolate(level_t, level_z, t); }
+
 double OpenZoneSpec::speed_at(double t) const {
   double u = speed;
-  if (profile == "file") {
-    if (t <= series_t.front()) u = series_u.front();
-    else if (t >= series_t.back()) u = series_u.back();
-    else {
-      std::size_t k = 1;
-      while (series_t[k] < t) ++k;
-      const double w = (t - series_t[k - 1]) / (series_t[k] - series_t[k - 1]);
-      u = series_u[k - 1] + w * (series_u[k] - series_u[k - 1]);
-    }
-  }
+  if (profile == "file") u = interpolate(series_t, series_u, t);
   if (ramp > 0 && t < ramp) u *= t <= 0 ? 0.0 : 0.5 * (1 - std::cos(3.14159265358979323846 * t / ramp));
   return u;
 }

@@ -91,15 +91,26 @@ struct OpenZoneSpec {
   std::vector<double> direction;    // unit axis vector from the zone into the fluid (inlets and outlets)
   int axis = 0;                     // the axis of `direction`
   double sign = 1;                  // its sign (+1 or -1)
-  // inlet velocity along `direction`: "uniform" (value), "parabolic" (2D, across the zone: peak), "file"
+  // inlet velocity along `direction`: "uniform" (value), "parabolic" (2D, across the zone: peak; with a
+  // water level the open-channel half parabola, peak at the surface), "log_law" (water level only: depth-mean
+  // value, roughness z0), "file"
   std::string profile = "uniform";
-  double speed = 0;                 // uniform: speed; parabolic: peak speed on the zone's centre line [m/s]
+  double speed = 0;                 // uniform: speed; parabolic: peak speed; log_law: depth-mean speed [m/s]
+  double roughness = 0;             // log_law: z0 [m]
   std::vector<double> series_t, series_u;  // profile "file": times [s] (strictly increasing) and speeds [m/s]
   double ramp = 0;                  // velocity.ramp: the inflow rises as (1 - cos(pi t / ramp)) / 2 over this [s]
   bool pressure_extrapolated = true;  // inlet default; outlets default to a prescribed pressure
   double pressure = 0;              // prescribed pressure [Pa] (when not extrapolated)
   // The inflow speed at time t (profile "file": linear in time, held beyond the ends), times the ramp [m/s].
   double speed_at(double t) const;
+  // Free-surface inlet (`water_level`, DualSPHysics' imposed zsurf, Tafuni et al. 2018): buffer particles only
+  // below the level on the vertical axis (the last), fixed or a time series (linear, held beyond the ends).
+  bool surface = false;
+  double level = 0;                        // the fixed level [m] (a coordinate on the vertical axis)
+  std::vector<double> level_t, level_z;    // water_level.file: times [s] (strictly increasing), levels [m]
+  bool hydrostatic = false;                // pressure "hydrostatic": p = p_b + rho0 |g_z| (level - z)
+  double level_at(double t) const;
+  bool level_varies() const { return !level_t.empty(); }
 };
 
 struct Scene {

@@ -97,7 +97,9 @@ OpenBoundaries<D>::OpenBoundaries(const scene::Scene& s, ParticleStore& store) :
       z.lo[a] = Real(spec.min[std::size_t(a)]);
       z.hi[a] = Real(spec.max[std::size_t(a)]);
     }
-    z.rho_prescribed = spec.pressure_extrapolated ? Real(s.rho0) : eos.density(Real(spec.pressure));
+    z.rho_prescribed = spec.pressure_extrapolated || spec.hydrostatic ? Real(s.rho0) : eos.density(Real(spec.pressure));
+    z.surface = spec.surface;
+    z.gz = Real(-s.gravity[std::size_t(D - 1)]);
     zones_.push_back(z);
   }
 }
@@ -115,7 +117,18 @@ Vec<D> OpenBoundaries<D>::inflow(const Zone& z, const Vec<D>& x, double t) const
   if (!z.inlet) return u;
   const auto& spec = *z.spec;
   double speed = spec.speed_at(t);
-  if (spec.profile == "parabolic") {  // 2D plane Poiseuille profile across the zone: 4 u_peak s (W - s) / W^2
+  if (z.surface && (spec.profile == "parabolic" || spec.profile == "log_law")) {
+    // the water depth H and the height s above the bed (the zone's bottom)
+    const double H = spec.level_at(t) - double(z.lo[D - 1]);
+    const double sb = std::clamp(double(x[D - 1] - z.lo[D - 1]), 0.0, H);
+    if (spec.profile == "parabolic") {  // laminar open-channel (film) profile, zero shear at the surface: u_s (2 s/H - s^2/H^2)
+      const double e = sb / H;
+      speed *= e * (2 - e);
+    } else {  // log law of the wall u = (u* / kappa) ln(s / z0) with u* set by the depth mean U: ln(H / z0) - 1 (e.g. Chanson 2004)
+      const double z0 = spec.roughness;
+      speed *= sb > z0 ? std::log(sb / z0) / (std::log(H / z0) - 1) : 0.0;
+    }
+  } else if (spec.profile == "parabolic") {  // 2D plane Poiseuille profile across the zone: 4 u_peak s (W - s) / W^2
     const int across = 1 - z.axis;
     const double W = double(z.hi[across] - z.lo[across]);
     const double sc = std::clamp(double(x[across] - z.lo[across]), 0.0, W);
@@ -150,14 +163,17 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
         << " spacings deep";
       throw InputError(m.str());
     }
-    // the interface must face the fluid: fluid particles within a spacing beyond it
-    bool faces_fluid = false;
+    // the interface must face the fluid: fluid particles within a spacing beyond it. An outlet that no fluid
+    // reaches yet (the sheets of a jet on a plate arrive later) is accepted unless fluid lies beyond its outer
+    // face instead, the signature of a reversed direction
+    bool faces_fluid = false, faces_back = false;
     for (std::size_t i = 0; i < n && !faces_fluid; ++i) {
       if (f.kind[i] != 0 || !beside(z, f.x[i])) continue;
       const Real d = distance(z, f.x[i]);
       faces_fluid = d > 0 && d < Real(dx);
+      faces_back = faces_back || (d < -z.depth && d > -z.depth - Real(dx));
     }
-    if (!faces_fluid)
+    if (!faces_fluid && (z.inlet || faces_back))
       throw InputError(key(k, "direction") + "no fluid lies within a spacing beyond the zone's face at " +
                        std::to_string(double(z.face)) + " on axis " + std::to_string(z.axis) +
                        ": the direction must point from the zone into the fluid");
@@ -176,6 +192,10 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
       }
     }
   }
+  for (std::size_t k = 0; k < zones_.size(); ++k)
+    if (zones_[k].spec->level_varies() && sim.comm().size() > 1)
+      throw InputError(key(k, "water_level.file") + "a water level that varies in time runs in one process only "
+                       "(not yet on several MPI ranks; a fixed level does)");
   check_outlets_reachable(sim);
   // the fluid inside the zones gives way to the zones' lattices (lattice points at (i + 1/2) dx from the
   // box's lower corner: the fluid's own lattice when the box faces lie on its lattice lines)
@@ -185,6 +205,7 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
   created_src_.clear();
   created_zone_.clear();
   std::vector<Vec<D>> pts;
+  std::vector<char> fed;
   for (std::size_t k = 0; k < zones_.size(); ++k) {
     const Zone& z = zones_[k];
     std::array<long, D> cells{};
@@ -192,6 +213,26 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
     for (int a = 0; a < D; ++a) {
       cells[std::size_t(a)] = std::lround(double(z.hi[a] - z.lo[a]) / dx);
       total *= cells[std::size_t(a)];
+    }
+    // an outlet's lattice only where fluid lies beside its interface (its first spacing beyond the face, the
+    // same cell across the direction): a box taller than a free-surface flow holds no buffer above the water
+    const auto across_cell = [&](const Vec<D>& x) {
+      long key = 0, mul = 1;
+      for (int a = 0; a < D; ++a) {
+        if (a == z.axis) continue;
+        const long c = std::clamp(long(std::floor(double(x[a] - z.lo[a]) / dx)), 0L, cells[std::size_t(a)] - 1);
+        key += c * mul;
+        mul *= cells[std::size_t(a)];
+      }
+      return key;
+    };
+    if (!z.inlet) {
+      fed.assign(std::size_t(total / cells[std::size_t(z.axis)]), 0);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (f.kind[i] != 0 || !beside(z, f.x[i])) continue;
+        const Real d = distance(z, f.x[i]);
+        if (d > 0 && d < Real(dx)) fed[std::size_t(across_cell(f.x[i]))] = 1;
+      }
     }
     for (long c = 0; c < total; ++c) {
       long r = c;
@@ -201,6 +242,8 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
         r /= cells[std::size_t(a)];
         p[a] = Real(double(z.lo[a]) + (double(ia) + 0.5) * dx);
       }
+      if (!wet(z, p, sim.time())) continue;  // a free-surface inlet: only below its water level
+      if (!z.inlet && !fed[std::size_t(across_cell(p))]) continue;
       pts.push_back(p);
       created_src_.push_back(fluid_src);
       created_zone_.push_back(std::int32_t(k));
@@ -412,6 +455,7 @@ void OpenBoundaries<D>::before_step(Simulation<D>& sim) {
     x0[i] = x[i];
     v0[i] = v[i];
   });
+  step_t0_ = sim.time();
   stepping_ = true;
   placed_ = false;
   impose_seconds_ += seconds_since(t0);
@@ -507,7 +551,7 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
         zone[i] = -1;
         e.mass_in = double(f.mass[i]);
         any = true;
-        if (z.inlet) {
+        if (z.inlet && wet(z, f.x[i], sim.time())) {  // no copy above a free-surface inlet's (fallen) level
           created_src_.push_back(std::uint32_t(i));
           created_zone_.push_back(zi);
           created_keys.push_back(e.key);
@@ -517,6 +561,10 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
         removed_.push_back(std::uint32_t(i));
         e.removed = 1;
         e.removed_outlet = z.inlet ? 0 : 1;
+        any = true;
+      } else if (z.surface && !wet(z, f.x[i], sim.time())) {  // above a fallen water level: the buffer shrinks
+        removed_.push_back(std::uint32_t(i));
+        e.removed = 1;
         any = true;
       }
       if (any) mine.push_back(e);
@@ -563,7 +611,7 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
     }
   }
   if (p != created_keys.size()) throw std::logic_error("OpenBoundaries: a created particle lost in the ordering");
-  const bool changed = unplaced || created_total > 0 || removed_total > 0;
+  bool changed = unplaced || created_total > 0 || removed_total > 0;
   if (created_total > 0) {  // a copy one zone depth upstream takes each crossing particle's place
     const std::size_t first = sim.create_particles(created_src_, order_, created_total);
     const double t = sim.time();
@@ -580,6 +628,12 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
     }
     flow.created += long(created_total);
   }
+  std::size_t risen = 0;  // a varying water level that rose: new lattice rows (one process, refused on several ranks)
+  for (const Zone& z : zones_)
+    if (z.spec->level_varies()) {
+      risen = fill_risen_rows(sim, step_t0_, sim.time());
+      break;
+    }
   if (!removed_.empty()) {  // removed_ is ascending (storage order) and below the created copies
     kept_.clear();
     std::size_t r = 0;
@@ -594,6 +648,7 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
     if (dom) dom->compact_owned(sim.store(), kept_);
     else sim.store().compact(kept_);
   }
+  changed = changed || risen > 0;
   if (changed) {  // every rank alike (the totals are global)
     sim.recount_kinds();
     sim.rebin();  // the sort and the grid for the new set of particles
@@ -602,6 +657,65 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
   t0 = std::chrono::steady_clock::now();
   impose(sim);
   impose_seconds_ += seconds_since(t0);
+}
+
+template <int D>
+std::size_t OpenBoundaries<D>::fill_risen_rows(Simulation<D>& sim, double t0, double t1) {
+  auto& f = sim.fields();
+  const double dx = scene_.spacing;
+  row_pts_.clear();
+  created_src_.clear();
+  created_zone_.clear();
+  for (std::size_t k = 0; k < zones_.size(); ++k) {
+    const Zone& z = zones_[k];
+    if (!z.spec->level_varies()) continue;
+    const double l0 = z.spec->level_at(t0), l1 = z.spec->level_at(t1);
+    if (!(l1 > l0)) continue;
+    // the zone's lattice points (as in setup) whose row was dry at t0 and is wet at t1
+    std::array<long, D> cells{};
+    long total = 1;
+    for (int a = 0; a < D; ++a) {
+      cells[std::size_t(a)] = std::lround(double(z.hi[a] - z.lo[a]) / dx);
+      total *= cells[std::size_t(a)];
+    }
+    for (long c = 0; c < total; ++c) {
+      long r = c;
+      Vec<D> p;
+      for (int a = 0; a < D; ++a) {
+        const long ia = r % cells[std::size_t(a)];
+        r /= cells[std::size_t(a)];
+        p[a] = Real(double(z.lo[a]) + (double(ia) + 0.5) * dx);
+      }
+      if (wet(z, p, t0) || !wet(z, p, t1)) continue;
+      row_pts_.push_back(p);
+      created_zone_.push_back(std::int32_t(k));
+    }
+  }
+  if (row_pts_.empty()) return 0;
+  // copies of a fluid particle (every registered field gets a value), then the lattice point's state
+  std::uint32_t src = UINT32_MAX;
+  for (std::size_t i = 0; i < sim.size() && src == UINT32_MAX; ++i)
+    if (f.kind[i] == 0) src = std::uint32_t(i);
+  if (src == UINT32_MAX) return 0;  // no fluid left at all: nothing to copy from
+  created_src_.assign(row_pts_.size(), src);
+  const std::size_t first = sim.create_particles(created_src_);
+  const Real mass = Real(scene_.rho0 * std::pow(dx, D));
+  for (std::size_t c = 0; c < row_pts_.size(); ++c) {
+    const std::size_t i = first + c;
+    const Zone& z = zones_[std::size_t(created_zone_[c])];
+    f.x[i] = row_pts_[c];
+    for (auto* pl : sim.position_like()) pl->data[i] = row_pts_[c];
+    f.v[i] = inflow(z, row_pts_[c], t1);
+    f.a[i] = Vec<D>::Zero();
+    f.rho[i] = z.rho_prescribed;
+    f.drho[i] = 0;
+    f.mass[i] = mass;
+    f.normal[i] = Vec<D>::Zero();
+    f.body[i] = -1;
+    zone_->data[i] = created_zone_[c];
+  }
+  sim.flow().created += long(row_pts_.size());
+  return row_pts_.size();
 }
 
 namespace {
@@ -733,6 +847,8 @@ void OpenBoundaries<D>::impose(Simulation<D>& sim) {
     const bool need_v = !z.inlet;
     Vec<D> vi = z.inlet ? inflow(z, x[i], t) : v[i];
     Real rhoi = z.rho_prescribed;
+    if (z.spec->hydrostatic)  // hydrostatic below the imposed level (DualSPHysics zsurf, Tafuni et al. 2018): p = p_b + rho0 |g_z| (level - z)
+      rhoi = eos.density(eos.pb + Real(s.rho0) * z.gz * std::max(Real(0), Real(z.spec->level_at(t)) - x[i][D - 1]));
     if (need_rho || need_v) {
       const Vec<D> xg = ghost_node(i);
       GhostFit<D> fit{double(support)};

@@ -81,7 +81,17 @@ class OpenBoundaries {
     Real depth;        // extent along the axis [m]
     Vec<D> lo, hi;     // the box
     Real rho_prescribed;
+    // free-surface inlet (water_level): the vertical axis D - 1; |g_z| for the hydrostatic density
+    bool surface = false;
+    Real gz = 0;
   };
+  // a free-surface inlet's buffer particle at x lies below the water level at time t (its lattice row is wet)
+  bool wet(const Zone& z, const Vec<D>& x, double t) const {
+    return !z.surface || double(x[D - 1]) < z.spec->level_at(t);
+  }
+  // A time-varying level that rose during the step [t0, t1]: the zone's lattice rows that became wet get
+  // buffer particles (one process; appended after the step's copies). Returns the number created.
+  std::size_t fill_risen_rows(Simulation<D>& sim, double t0, double t1);
   // Signed distance from the interface along the direction (< 0 inside the zone's depth).
   Real distance(const Zone& z, const Vec<D>& x) const { return z.sign * (x[z.axis] - z.face); }
   bool beside(const Zone& z, const Vec<D>& x) const;  // within the box's extent across the direction
@@ -102,6 +112,8 @@ class OpenBoundaries {
   std::size_t buffers_ = 0;
   bool stepping_ = false;  // between before_step and after_step
   bool placed_ = false;    // place_buffers ran in this step (else after_step places them and rebins)
+  double step_t0_ = 0;     // the time at the step's start (a varying water level: the rows wet then)
+  std::vector<Vec<D>> row_pts_;
   double transition_seconds_ = 0, impose_seconds_ = 0;
 };
 

@@ -17,10 +17,12 @@
 #include "core/errors.hpp"
 #include "exec/device_run.hpp"
 #include "io/checkpoint.hpp"
+#include "physics/eos.hpp"
 #include "scene/scene.hpp"
 #include "sim/open_boundaries.hpp"
 #include "sim/restart.hpp"
 #include "sim/simulation.hpp"
+#include "test_support.hpp"
 
 using namespace varsph;
 
@@ -302,4 +304,216 @@ TEST(OpenBoundaries, NeighbourGridMatchesThePositionsAfterEveryStep) {
     EXPECT_GT(quiet_steps, 100) << search;  // most steps create and remove nothing
     EXPECT_EQ(stale_steps, 0) << search << ": steps after which the grid was not the positions' grid";
   }
+}
+
+namespace {
+
+// The film of pipelines/open/film_slope.json (a free-surface inlet at water level H = 10 mm on a bed tilted at
+// 10 degrees, an outlet) made small for the fast tier: dx 1 mm (10 rows), a channel 50 mm long, 0.1 s.
+nlohmann::json film_json() {
+  std::ifstream in(test::source_dir() / "pipelines/open/film_slope.json");
+  return nlohmann::json::parse(in);
+}
+const std::vector<std::string> kSmallFilm = {
+    "particles.spacing=0.001",          "domain.min=[-0.008,-0.008]",       "domain.max=[0.06,0.03]",
+    "bodies.0.max=[0.05,0.01]",         "bodies.1.min=[-0.004,0.0]",        "bodies.1.max=[0.054,0.02]",
+    "open_boundaries.0.min=[-0.004,0.0]", "open_boundaries.1.min=[0.05,0.0]", "open_boundaries.1.max=[0.054,0.02]",
+    "time.end=0.1"};
+scene::Scene film(std::vector<std::string> sets = {}, nlohmann::json j = film_json()) {
+  std::vector<std::string> all = kSmallFilm;
+  all.insert(all.end(), sets.begin(), sets.end());
+  return scene::parse_scene_json(std::move(j), test::source_dir() / "pipelines/open/film_slope.json", all);
+}
+std::string film_error(const std::vector<std::string>& sets, nlohmann::json j = film_json()) {
+  try {
+    const scene::Scene s = film(sets, std::move(j));
+    Simulation<2> sim(s);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+// The free-surface inlet (water_level, DualSPHysics' imposed zsurf, Tafuni et al. 2018): buffer particles only
+// below the level, hydrostatic density from it, the film profile u_s (2 s/H - s^2/H^2); the inflow it feeds is
+// the profile's flux rho q t, and the fluid in the domain keeps the level's mass while the outlet drains it.
+TEST(OpenBoundaries, FreeSurfaceInletKeepsItsLevelAndTheFlowRuns) {
+  const scene::Scene s = film();
+  Simulation<2> sim(s);
+  const auto& zone = sim.store().get<std::int32_t>("open_zone");
+  const auto& f = sim.fields();
+  const double dx = s.spacing, H = 0.01, us = s.open_boundaries[0].speed, ramp = s.open_boundaries[0].ramp;
+  const int rows = 10, cols = 4;
+  const physics::TaitEos eos(Real(s.rho0), Real(s.c0));
+  const double gz = -s.gravity[1];
+  double top_min = 1, top_max = 0;
+  int checks = 0;
+  while (sim.time() < s.t_end - 0.5 * sim.dt()) {
+    sim.advance();
+    if (sim.step() % 25 != 0) continue;
+    ++checks;
+    // the inlet's buffer: one lattice particle per row below the level and column, none above; each with the
+    // film profile and the hydrostatic density of its depth below the level
+    int in = 0;
+    double top = 0;
+    for (std::size_t i = 0; i < sim.size(); ++i) {
+      if (zone[i] == 0) {
+        ++in;
+        const double y = f.x[i][1];
+        EXPECT_LT(y, H);
+        const double e = y / H, r = sim.time() < ramp ? 0.5 * (1 - std::cos(M_PI * sim.time() / ramp)) : 1.0;
+        EXPECT_NEAR(f.v[i][0], r * us * e * (2 - e), 1e-12);
+        EXPECT_NEAR(f.rho[i], eos.density(Real(s.rho0 * gz * (H - y))), 1e-9);
+      } else if (zone[i] < 0 && f.kind[i] == 0 && f.x[i][0] < 3 * dx) {
+        top = std::max(top, double(f.x[i][1]) + dx / 2);  // the fluid's surface next to the inlet
+      }
+    }
+    EXPECT_EQ(in, rows * cols) << "t = " << sim.time();
+    top_min = std::min(top_min, top);
+    top_max = std::max(top_max, top);
+  }
+  EXPECT_GT(checks, 40);
+  std::printf("film, small: surface next to the inlet between %.3f H and %.3f H; created %ld, removed %ld, mass %.4f M0\n",
+              top_min / H, top_max / H, sim.flow().created, sim.flow().removed_outlet, sim.fluid_mass() / sim.flow().mass0);
+  // the fluid next to the inlet stays at the imposed level (within a spacing)
+  EXPECT_GE(top_min, H - dx);
+  EXPECT_LE(top_max, H + dx);
+  // the inflow is the profile's: row r crosses floor(S_r / dx + 1/2) particles, S_r = u(y_r) (t - ramp/2)
+  const auto& fl = sim.flow();
+  const double m = s.rho0 * dx * dx;
+  double expect = 0;
+  for (int r = 0; r < rows; ++r) {
+    const double e = (r + 0.5) * dx / H;
+    expect += m * us * e * (2 - e) * (sim.time() - ramp / 2) / dx;
+  }
+  EXPECT_NEAR(fl.mass_in, expect, m * (0.5 * rows + 0.5)) << "in " << fl.mass_in / m << " particles";
+  EXPECT_GT(fl.removed_outlet, 0);  // the outlet drains
+  const double M = sim.fluid_mass();
+  EXPECT_NEAR(M / fl.mass0, 1.0, 0.02);
+  EXPECT_LE(std::abs(fl.mass_in - fl.mass_out() - (M - fl.mass0)), 1e-12 * fl.mass0);
+}
+
+// A water level that varies in time (water_level.file): rows are added as it rises and removed as it falls;
+// the buffer always holds exactly the lattice rows below the level, and the mass balance still closes.
+TEST(OpenBoundaries, FreeSurfaceInletFollowsAVaryingLevel) {
+  const auto dir = std::filesystem::temp_directory_path() / ("varsph_open_level_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "level.csv") << "time,level\n0,0.0062\n0.04,0.0098\n0.08,0.0051\n";
+  nlohmann::json j = film_json();
+  j["open_boundaries"][0]["water_level"] = {{"file", (dir / "level.csv").string()}};
+  const scene::Scene s = film({"time.end=0.1"}, j);
+  Simulation<2> sim(s);
+  const auto& zone = sim.store().get<std::int32_t>("open_zone");
+  const double dx = s.spacing;
+  int rose = 0, fell = 0, last_rows = -1;
+  while (sim.time() < s.t_end - 0.5 * sim.dt()) {
+    sim.advance();
+    const double level = s.open_boundaries[0].level_at(sim.time());
+    int rows = 0;
+    while ((rows + 0.5) * dx < level) ++rows;
+    int in = 0;
+    for (std::size_t i = 0; i < sim.size(); ++i)
+      if (zone[i] == 0) {
+        ++in;
+        EXPECT_LT(sim.fields().x[i][1], level);
+      }
+    ASSERT_EQ(in, 4 * rows) << "t = " << sim.time() << ", level " << level;
+    if (last_rows >= 0) rose += rows > last_rows, fell += rows < last_rows;
+    last_rows = rows;
+  }
+  EXPECT_EQ(rose, 4);  // rows 7..10 wet in turn (the level from 6.2 to 9.8 mm), then 10..6 dry again
+  EXPECT_EQ(fell, 5);
+  const auto& fl = sim.flow();
+  EXPECT_LE(std::abs(fl.mass_in - fl.mass_out() - (sim.fluid_mass() - fl.mass0)), 1e-12 * fl.mass0);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(OpenBoundaries, FreeSurfaceInletBadInputNamesTheKey) {
+  const std::string key = "key 'open_boundaries.0.water_level' (zone 'inlet')";
+  std::string e = film_error({"open_boundaries.0.water_level=0.03"});  // above the zone's top (0.02)
+  EXPECT_NE(e.find(key), std::string::npos) << e;
+  EXPECT_NE(e.find("top"), std::string::npos) << e;
+  for (const char* bed : {"open_boundaries.0.water_level=0.0", "open_boundaries.0.water_level=-0.01"}) {
+    e = film_error({bed});  // at or below the bed
+    EXPECT_NE(e.find(key), std::string::npos) << e;
+    EXPECT_NE(e.find("bed"), std::string::npos) << e;
+  }
+  e = film_error({"open_boundaries.0.water_level=\"high\""});
+  EXPECT_NE(e.find(key), std::string::npos) << e;
+  const auto dir = std::filesystem::temp_directory_path() / ("varsph_open_badlevel_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "nan.csv") << "time,level\n0,0.01\n1,nan\n";
+  std::ofstream(dir / "back.csv") << "time,level\n0,0.01\n1,0.01\n0.5,0.01\n";
+  std::ofstream(dir / "high.csv") << "0,0.01\n1,0.05\n";
+  for (const char* name : {"nan.csv", "back.csv", "high.csv"}) {
+    nlohmann::json j = film_json();
+    j["open_boundaries"][0]["water_level"] = {{"file", (dir / name).string()}};
+    e = film_error({}, j);
+    EXPECT_NE(e.find("key 'open_boundaries.0.water_level.file' (zone 'inlet')"), std::string::npos) << e;
+    EXPECT_TRUE(e.find("line 3") != std::string::npos || e.find("line 4") != std::string::npos ||
+                e.find("line 2") != std::string::npos) << e;
+  }
+  std::filesystem::remove_all(dir);
+  // a level on an outlet; a vertical inlet direction; log_law without a level, or with a roughness above H / e
+  e = film_error({"open_boundaries.1.water_level=0.01"});
+  EXPECT_NE(e.find("key 'open_boundaries.1.water_level' (zone 'outlet')"), std::string::npos) << e;
+  e = input_error({"open_boundaries.0.velocity.profile=log_law"});
+  EXPECT_NE(e.find("key 'open_boundaries.0.velocity.profile' (zone 'in')"), std::string::npos) << e;
+  nlohmann::json log = film_json();
+  log["open_boundaries"][0]["velocity"] = {{"profile", "log_law"}, {"value", 0.05}, {"roughness", 0.005}};
+  e = film_error({}, log);  // z0 above H / e = 3.7 mm: the depth-mean of ln(s / z0) is not positive
+  EXPECT_NE(e.find("key 'open_boundaries.0.velocity.roughness' (zone 'inlet')"), std::string::npos) << e;
+  EXPECT_EQ(film_error({"open_boundaries.0.velocity.roughness=0.0001"}, log), "");
+  // hydrostatic needs gravity with a downward component on the vertical axis
+  e = film_error({"gravity=[1.0,0.0]"});
+  EXPECT_NE(e.find("key 'open_boundaries.0.pressure' (zone 'inlet')"), std::string::npos) << e;
+  // what a scene does not name is unchanged: the film's outlet has no level, the channel's zones none
+  EXPECT_FALSE(channel().open_boundaries[0].surface);
+}
+
+// An outlet that no fluid reaches at the start (the sheets of a jet on a plate arrive later) is accepted with
+// an empty lattice; an outlet whose direction is reversed (fluid beyond its outer face, none beyond its
+// interface) is still refused naming its direction.
+TEST(OpenBoundaries, OutletsTheFlowReachesLaterAreAcceptedReversedOnesRefused) {
+  const scene::Scene s = scene::parse_scene(test::source_dir() / "pipelines/open/jet_plate_inlet.json");
+  Simulation<2> sim(s);
+  const auto& zone = sim.store().get<std::int32_t>("open_zone");
+  std::size_t in = 0, out = 0;
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    in += zone[i] == 0;
+    out += zone[i] > 0;
+  }
+  EXPECT_EQ(in, 4u * 20u);  // the inlet's lattice, 4 x 20
+  EXPECT_EQ(out, 0u);       // no fluid beside the outlets yet: no buffer
+  const std::string e = input_error({"open_boundaries.1.direction=[1.0,0.0]"});
+  EXPECT_NE(e.find("key 'open_boundaries.1.direction' (zone 'out')"), std::string::npos) << e;
+}
+
+// The log law of a free-surface inlet: u = U ln(s / z0) / (ln(H / z0) - 1) at height s above the bed (the
+// friction velocity set by the depth mean U); its depth mean over the lattice rows is U to the midpoint rule.
+TEST(OpenBoundaries, FreeSurfaceInletLogLawProfile) {
+  nlohmann::json j = film_json();
+  j["open_boundaries"][0]["velocity"] = {{"profile", "log_law"}, {"value", 0.05}, {"roughness", 0.0001}};
+  const scene::Scene s = film({}, j);
+  Simulation<2> sim(s);
+  const auto& zone = sim.store().get<std::int32_t>("open_zone");
+  const double H = 0.01, z0 = 1e-4, U = 0.05, dx = s.spacing;
+  double sum = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < sim.size(); ++i) {
+    if (zone[i] != 0) continue;
+    const double y = sim.fields().x[i][1];
+    EXPECT_NEAR(sim.fields().v[i][0], U * std::log(y / z0) / (std::log(H / z0) - 1), 1e-12) << "y = " << y;
+    EXPECT_EQ(sim.fields().v[i][1], 0);
+    sum += sim.fields().v[i][0];
+    ++n;
+  }
+  ASSERT_EQ(n, 40);
+  // the rows' mean against U: ln is concave, so the midpoint rule over the 10 rows overestimates its mean, here by
+  // (sum_r ln(r + 1/2) / 10 - ln 10 + 1) / (ln(H/z0) - 1) = 0.0342 / 3.605 = 0.95 %
+  EXPECT_GT(sum / n, U);
+  EXPECT_LT(sum / n, 1.015 * U);
+  (void)dx;
 }
