@@ -17,7 +17,8 @@ half-breadth B (after the first instants; before the knuckle):
     and worst of F / F_Wagner over the probe rows of the window;
   * wetted half-width: on each face, the largest distance from the apex (horizontal) of a fluid particle within
     1.5 dx of the face whose pressure exceeds 0.25 rho V^2 (the spray root: the jet along the face carries
-    almost no pressure, the wetted part more than rho V^2), mean of both sides, against Wagner's c.
+    almost no pressure, the wetted part more than rho V^2) and which is joined to the apex by such particles (no
+    gap of two spacings), mean of both sides, against Wagner's c.
 
   python3 pipelines/bodies/wedge_wagner.py [--dx 0.0025 ...] [--threads 1] [-o runs/wedge] [--set KEY=VALUE ...]
       [--check-force 0.10] [--check-width 0.10]   (exit 1 when a figure misses its bound)
@@ -106,7 +107,7 @@ def wetted_half_width(frame, dx, p_root):
     apex_y = apex_poly(dx) - V * tf  # polyline apex at the frame's time
     off = 0.5 * dx / math.cos(BETA)  # the effective surface is half a spacing outside the polyline
     sb, cb = math.sin(BETA), math.cos(BETA)
-    best = [0.0, 0.0]
+    wet = [{}, {}]  # per face: horizontal bins of one spacing from the apex holding a loaded particle
     for (x, y, _z), p, k in zip(a["Points"], a["pressure"], a["kind"]):
         if k != 0 or p < p_root * RHO * V ** 2:
             continue
@@ -114,8 +115,17 @@ def wetted_half_width(frame, dx, p_root):
         side = 1 if dxa >= 0 else 0
         # distance below the face line y = |x| tan(beta) of the effective wedge
         d = (abs(dxa) * sb - dya * cb)
-        if 0 <= d <= 1.5 * dx and abs(dxa) > best[side]:
-            best[side] = abs(dxa)
+        if 0 <= d <= 1.5 * dx:
+            j = int(abs(dxa) / dx)
+            wet[side][j] = max(wet[side].get(j, 0.0), abs(dxa))
+    # the wetted part is contiguous from the apex: walk out bin by bin and stop at the first empty one (an isolated
+    # loaded particle up in the jet, seen at B/dx 120, is not the spray root)
+    best = [0.0, 0.0]
+    for side in (0, 1):
+        j = 0
+        while j in wet[side] or j + 1 in wet[side]:  # a one-bin gap is the particles' spacing along the face
+            best[side] = max(best[side], wet[side].get(j, 0.0))
+            j += 1
     return tf, 0.5 * (best[0] + best[1]), best
 
 
