@@ -3,6 +3,7 @@
 linear theory, decay along the flume, reflection with the damping zone, mass and paddle leaks.
 
     pvpython pipelines/validation/case_waves.py [--paddle piston|flap] [--per-height 10] [--kh 1.5] [--periods 10]
+        [--depth 0.2] [--h-over-dx 1.414] [--ramp-periods 2] [--zone-at 2.1]
         [--no-damping] [--awas shallow|linear] [--threads 2] [-o DIR | --rundir DIR] [--check-height 0.05] [--check-period 0.01]
         [--check-decay 0.05] [--check-kr 0.10]
 
@@ -85,6 +86,10 @@ def main(argv):
     ap.add_argument("--per-height", type=float, default=10, help="particles per wave height H/dx")
     ap.add_argument("--kh", type=float, default=1.5)
     ap.add_argument("--height", type=float, default=0.04)
+    ap.add_argument("--depth", type=float, default=0.2, help="still-water depth h (m)")
+    ap.add_argument("--h-over-dx", type=float, default=1.414, help="kernel.h_over_dx (above 1.5: walls of 4 layers)")
+    ap.add_argument("--ramp-periods", type=float, default=2.0, help="the paddle's ramp in periods")
+    ap.add_argument("--zone-at", type=float, default=2.1, help="the damping zone's start in wavelengths")
     ap.add_argument("--periods", type=float, default=10)
     ap.add_argument("--no-damping", action="store_true")
     ap.add_argument("--awas", default=None, metavar="GAIN", choices=("shallow", "linear"),
@@ -101,9 +106,12 @@ def main(argv):
         with open(os.path.join(a.rundir, "run.json")) as f:
             scene = json.load(f)["scene"]
     else:
-        scene = make_flume.flume("waves_%s_kh%g_H%g%s" % (a.paddle, a.kh, a.per_height, "_awas" if a.awas else ""), a.paddle, 0.2, a.height, a.kh,
-                                 a.per_height, a.periods, damping=not a.no_damping,
-                                 awas=None if a.awas is None else {"gain": a.awas})
+        name = "waves_%s_kh%g_H%g%s" % (a.paddle, a.kh, a.per_height, "_awas" if a.awas else "")
+        if a.depth != 0.2 or a.h_over_dx != 1.414:
+            name += "_d%g_hdx%g" % (a.depth, a.h_over_dx)
+        scene = make_flume.flume(name, a.paddle, a.depth, a.height, a.kh, a.per_height, a.periods,
+                                 damping=not a.no_damping, awas=None if a.awas is None else {"gain": a.awas},
+                                 h_over_dx=a.h_over_dx, ramp_periods=a.ramp_periods, zone_at=a.zone_at)
     pb, body, m = paddle_of(scene)
     h = max(b["max"][1] for b in scene["bodies"] if b["kind"] == "fluid")
     H, T = m["height"], m["period"]
