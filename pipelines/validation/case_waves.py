@@ -13,8 +13,8 @@ into the folder above DIR (NAME.json) and run into DIR; --rundir analyses a fini
 The scene's paddle motion gives H, T and the depth h; its gauges (water_height probes named gNNN at NNN/100
 wavelengths from the paddle) give the surface elevation eta = h_gNNN - h. Metrics:
   H_g, T_g   mean zero up-crossing height and period at each gauge (paraview/wave_analysis.py) over the window from
-             the arrival of the ramped-up waves (ramp + x / cg + 2 T) to the first return of waves reflected by the
-             far wall (ramp + (2 x_wall - x) / cg), or the run's end; err_H = H_g / H - 1, err_T = T_g / T - 1 at the
+             the arrival of the ramped-up waves (ramp + x / cg + 2 T; --margin sets the 2) to the first return of waves
+             reflected by the far wall (ramp + (2 x_wall - x) / cg), or the run's end (--until-end: the run's end); err_H = H_g / H - 1, err_T = T_g / T - 1 at the
              gauges one to two wavelengths from the paddle
   decay      H at the farthest gauge in front of the damping zone over H at 1 L (the same window length)
   Kr         Goda & Suzuki (1976) on the gauges 1.25 L and 1.5 L (k dl = pi / 2) after the reflected waves returned
@@ -94,6 +94,12 @@ def main(argv):
     ap.add_argument("--no-damping", action="store_true")
     ap.add_argument("--awas", default=None, metavar="GAIN", choices=("shallow", "linear"),
                     help="active absorption at the paddle with this gain (motion.awas, docs/waves.md)")
+    ap.add_argument("--margin", type=float, default=2.0,
+                    help="periods after the ramped waves' arrival before a gauge's window opens (2; 1 is enough for the "
+                         "nearly non-dispersive front of long waves, kh 0.5: cg / c = 0.93)")
+    ap.add_argument("--until-end", action="store_true",
+                    help="windows close at the run's end, not at the return of waves reflected by the far wall "
+                         "(a damping zone in front of the wall damps them on the way in and out; say so when used)")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("-o", dest="out", default=None)
     ap.add_argument("--rundir", default=None, help="analyse this finished run instead of running")
@@ -150,8 +156,8 @@ def main(argv):
           (h, H, T, kh, L, cg, dx, H / dx))
     window = {}
     for name, x in gauges:
-        t0 = ramp + x / cg + 2 * T
-        t1 = min(t_end, ramp + (2 * x_wall - x) / cg)
+        t0 = ramp + x / cg + a.margin * T
+        t1 = t_end if a.until_end else min(t_end, ramp + (2 * x_wall - x) / cg)
         sel = (t >= t0) & (t <= t1)
         if sel.sum() < 10 or t1 - t0 < 1.5 * T:
             print("%-6s x = %.3f m (%.2f L): window %.2f .. %.2f s too short" % (name, x, x / L, t0, t1))
