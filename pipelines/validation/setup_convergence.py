@@ -29,13 +29,18 @@ import case_buchner  # noqa: E402
 import case_column_height as cch  # noqa: E402
 
 
+def bad_input(msg):
+    print(f"setup_convergence.py: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
 def levels(text, key):
     try:
         out = [int(v) for v in text.split(",") if v.strip()]
     except ValueError:
-        raise SystemExit(f"setup_convergence.py: --{key} '{text}': expected a comma list of integers H/dx")
+        bad_input(f"--{key} '{text}': expected a comma list of integers H/dx")
     if any(n < 10 or n > 1000 for n in out):
-        raise SystemExit(f"setup_convergence.py: --{key} '{text}': every H/dx must lie in [10, 1000]")
+        bad_input(f"--{key} '{text}': every H/dx must lie in [10, 1000]")
     return out
 
 
@@ -122,9 +127,12 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("-o", "--outdir")
     ap.add_argument("--resume", action="store_true", help="keep the records of OUT/convergence.json, run the rest")
+    ap.add_argument("--check-converges", action="store_true",
+                    help="exit 1 unless every run ended and the column's best-shift front error and the Buchner P1 "
+                         "RMS do not grow from one level to the next finer one (CTest)")
     a = ap.parse_args()
     if not os.path.isfile(a.setup):
-        raise SystemExit(f"setup_convergence.py: --setup '{a.setup}': no such file")
+        bad_input(f"--setup '{a.setup}': no such file")
     col, buc = levels(a.column, "column"), levels(a.buchner, "buchner")
     name = os.path.splitext(os.path.basename(a.setup))[0]
     outdir = os.path.abspath(a.outdir or os.path.join(vc.ROOT, "runs", "setup_convergence", name))
@@ -149,7 +157,20 @@ def main():
     with open(os.path.join(outdir, "convergence.md"), "w") as f:
         f.write(md)
     print(md)
+    if a.check_converges:
+        return check_converges(records)
     return 0
+
+
+def check_converges(records):
+    bad = [f"{r['case']} H/dx {r['N']}: exit {r['rc']}" for r in records if r["rc"] != 0]
+    for case, key in (("column", "mm_rms_shift"), ("buchner", "rms")):
+        rs = sorted((r for r in records if r["case"] == case), key=lambda r: r["N"])
+        for c, f in zip(rs, rs[1:]):
+            if not f[key] <= c[key]:
+                bad.append(f"{case} {key} grows from H/dx {c['N']} ({c[key]:.4f}) to {f['N']} ({f[key]:.4f})")
+    print("FAIL: " + "; ".join(bad) if bad else "OK: every level ran and the errors do not grow with resolution")
+    return 1 if bad else 0
 
 
 if __name__ == "__main__":
