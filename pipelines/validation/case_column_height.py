@@ -39,7 +39,11 @@ def geometry_sets(dx, t_end=T_END):
             "probes": [{"type": "front"}, {"type": "water_height", "name": "back", "from": [GAUGE_X, 0.0]}]}
 
 
-def height_metrics(rundir):
+def height_metrics(rundir, front_dT=None):
+    """height_rms as in the module docstring; with the front's best time shift front_dT (in T = t sqrt(2g/a)) also
+    the height error at that same shift (dtau = dT / sqrt(2)) and the height's own best shift: if the column
+    only ran ahead of the experiment in time, the shifted height would match as the shifted front does (issue 33
+    point 1)."""
     p = vc.read_csv(os.path.join(rundir, "probes.csv"))
     tau = p["time"] * math.sqrt(G / A)
     eta = p["h_back"] / HCOL
@@ -50,8 +54,18 @@ def height_metrics(rundir):
         return {"height_rms": float("nan")}
     es = np.interp(ti, tau, eta)
     rel = es / ei - 1.0
-    return {"height_rms": float(np.sqrt(np.mean(rel ** 2))), "height_eta_sim": [round(float(v), 3) for v in es],
-            "height_eta_data": [float(v) for v in ei], "height_mean_rel": float(np.mean(rel))}
+    out = {"height_rms": float(np.sqrt(np.mean(rel ** 2))), "height_eta_sim": [round(float(v), 3) for v in es],
+           "height_eta_data": [float(v) for v in ei], "height_mean_rel": float(np.mean(rel))}
+
+    def shifted(dtau):  # eta_sim(tau_i + dtau) against eta_i; dtau < 0: the simulation is ahead in time
+        return float(np.sqrt(np.mean((np.interp(ti + dtau, tau, eta) / ei - 1.0) ** 2)))
+    shifts = np.round(np.arange(-0.5, 0.5 + 1e-9, 0.005), 3)
+    errs = [shifted(s) for s in shifts]
+    k = int(np.argmin(errs))
+    out["height_rms_best_shift"], out["height_best_dtau"] = errs[k], float(shifts[k])
+    if front_dT is not None and np.isfinite(front_dT):
+        out["height_rms_front_shift"] = shifted(front_dT / math.sqrt(2.0))
+    return out
 
 
 def run_case(dx=0.005, sets=None, threads=2, outdir=None, scene=cdb.SCENE, setup=None, timeout=None):
@@ -65,7 +79,7 @@ def run_case(dx=0.005, sets=None, threads=2, outdir=None, scene=cdb.SCENE, setup
            "load_after": r.load_after, "dx": dx, "message": r.message() if r.rc else ""}
     if os.path.exists(os.path.join(outdir, "probes.csv")):  # a run that stopped early: its metrics so far
         res.update(cdb.evaluate(outdir, dx))
-        res.update(height_metrics(outdir))
+        res.update(height_metrics(outdir, res.get("mm_dT")))
         res["t_reached"] = float(vc.read_csv(os.path.join(outdir, "probes.csv"))["time"][-1])
     res["error"] = res.get("height_rms", float("nan")) if r.rc == 0 else float("nan")
     return res
