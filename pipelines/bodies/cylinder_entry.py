@@ -86,9 +86,9 @@ def run_case(rho, dx, threads, outdir, sets, timeout):
 def trajectory(outdir):
     """(t, y, vy) of the disc from bodies.csv, and the contact: time, centre height, speed."""
     rows = list(csv.DictReader(open(os.path.join(outdir, "bodies.csv"))))  # the scene's only rigid body
-    tr = [(float(r["time"]), float(r["y"]), float(r["vy"])) for r in rows]
+    tr = [(float(r["time"]), float(r["y"]), float(r["vy"]), float(r["fluid_fy"])) for r in rows]
     ye = SURFACE + R
-    for (t1, y1, v1), (t2, y2, v2) in zip(tr, tr[1:]):
+    for (t1, y1, v1, _), (t2, y2, v2, _) in zip(tr, tr[1:]):
         if y1 >= ye > y2:
             w = (y1 - ye) / (y1 - y2)
             return tr, t1 + w * (t2 - t1), ye, -(v1 + w * (v2 - v1))
@@ -113,9 +113,12 @@ def momentum_theory(rho_s, h, factor):
 
 def evaluate(outdir, rho):
     tr, t0, ye, v_entry = trajectory(outdir)
-    T = [(t - t0) * TS for t, _, _ in tr if t >= t0]
-    P = [(ye - y) / D for t, y, _ in tr if t >= t0]
-    VV = [-v for t, _, v in tr if t >= t0]
+    T = [(t - t0) * TS for t, _, _, _ in tr if t >= t0]
+    P = [(ye - y) / D for t, y, _, _ in tr if t >= t0]
+    VV = [-v for t, _, v, _ in tr if t >= t0]
+    # slamming coefficient C_s = F / (rho R V^2) of the fluid's vertical force (sampled at the probe rate): von
+    # Karman's is pi, Wagner's 2 pi at the first instant
+    cs = max(((f / (RHO_F * R * v * v), (ye - y) / R) for t, y, v, f in tr if t >= t0 and y > ye - R), default=(0, 0))
     with open(os.path.join(outdir, "penetration.csv"), "w") as f:
         f.write("# cylinder_entry.py: T = (t - t_contact) sqrt(g/D), penetration = (y_contact - y)/D, D = %g m; "
                 "t_contact %.6f s, speed at contact %.4f m/s\nT,penetration_over_D,speed_over_V\n" % (D, t0, v_entry))
@@ -144,7 +147,7 @@ def evaluate(outdir, rho):
         v = interp(P, VV, hr * R / D)
         early.append((hr, v / V if v is not None else float("nan"), momentum_theory(rho, hr * R, 1.0),
                       momentum_theory(rho, hr * R, 2.0)))
-    return t0, v_entry, T, P, figures, early
+    return t0, v_entry, T, P, figures, early, cs
 
 
 def main():
@@ -181,7 +184,7 @@ def main():
                       % (rho, dx, D / dx, wall, a.threads, l0, l1))
             else:
                 print("rho %d, dx %g (D/dx %.0f): %s" % (rho, dx, D / dx, outdir))
-            t0, v_entry, T, P, figures, early = evaluate(outdir, rho)
+            t0, v_entry, T, P, figures, early, cs = evaluate(outdir, rho)
             print("  contact at t = %.5f s, speed %.4f m/s; run to T = %.3f (penetration %.3f D)"
                   % (t0, v_entry, T[-1], P[-1]))
             for name, (rms, mx, rows, refused) in figures.items():
@@ -194,6 +197,8 @@ def main():
             for hr, v, vk, wg in early:
                 print("  speed at a penetration of %.2f R: %.3f V, %.3f of the speed at contact (momentum theory: von "
                       "Karman %.3f, Wagner %.3f)" % (hr, v, v * V / v_entry, vk, wg))
+            print("  largest slamming coefficient F / (rho R V^2) before the half-immersion: %.2f at a penetration of "
+                  "%.2f R (von Karman pi, Wagner 2 pi at the first instant)" % cs)
             rms_bem = figures["BEM"][0]
             mx_exp = figures["experiment"][1]
             if a.check_bem is not None and not rms_bem <= a.check_bem:
