@@ -116,6 +116,7 @@ def evaluate(outdir, rho):
     T = [(t - t0) * TS for t, _, _, _ in tr if t >= t0]
     P = [(ye - y) / D for t, y, _, _ in tr if t >= t0]
     VV = [-v for t, _, v, _ in tr if t >= t0]
+    T, P, VV = [0.0] + T, [0.0] + P, [v_entry] + VV  # the contact itself
     # slamming coefficient C_s = F / (rho R V^2) of the fluid's vertical force (sampled at the probe rate): von
     # Karman's is pi, Wagner's 2 pi at the first instant
     cs = max(((f / (RHO_F * R * v * v), (ye - y) / R) for t, y, v, f in tr if t >= t0 and y > ye - R), default=(0, 0))
