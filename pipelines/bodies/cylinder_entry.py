@@ -27,10 +27,10 @@ Faltinsen 1990, "Sea loads on ships and offshore structures", ch. 9) bracket the
       [-o runs/cylinder_entry] [--set KEY=VALUE ...] [--reuse]
       [--check-bem X] [--check-exp X]   (exit 1 when the RMS difference in R against the BEM curve, or the
                                          largest against the admissible experimental points, exceeds X)
-Writes DIR/penetration.csv (T, penetration/D) per case. Exit 2 on bad arguments, 3 when a run fails.
-Plot with the published series: pvpython paraview/plot_bodies.py DIR --reference
-tests/data/greenhow_lin1983_cylinder_entry_rho500.csv:quantity=y:scale_t=0.10589:scale_v=-0.11 (time from the
-run's start: the contact is three spacings, 5.6 ms at D/dx 20, later).
+Writes per case DIR/penetration.csv (T, penetration/D, speed/V from the contact) and DIR/reference_{experiment,
+bem,sph}.csv (each published series on the run's clock, as the centre's displacement from its start). Plot:
+pvpython paraview/plot_bodies.py DIR --reference DIR/reference_experiment.csv:label=Greenhow_Lin_1983
+Exit 2 on bad arguments, 3 when a run fails.
 """
 import argparse
 import csv
@@ -126,8 +126,16 @@ def evaluate(outdir, rho):
         for a, b, c in zip(T, P, VV):
             f.write("%.6f,%.6f,%.6f\n" % (a, b, c / V))
     figures = {}
+    y_start = tr[0][1]
     for name, pattern in SERIES:
         ref = read_pairs(os.path.join(DATA, pattern % rho))
+        # the series on the run's own clock and as the centre's displacement from its start, for
+        # paraview/plot_bodies.py RUN --reference RUN/reference_NAME.csv
+        with open(os.path.join(outdir, "reference_%s.csv" % re.sub(r"\W", "", name.split()[0].lower())), "w") as f:
+            f.write("# %s (tests/data/%s) on this run's clock: time = T / sqrt(g/D) + t_contact [s], y - y(0) of the "
+                    "centre [m]\ntime,y\n" % (name, pattern % rho))
+            for Tr, pr in ref:
+                f.write("%.6f,%.6f\n" % (Tr / TS + t0, (ye - y_start) - pr * D))
         diffs, rows, refused = [], [], []
         for Tr, pr in ref:
             if Tr <= 0:
