@@ -3,6 +3,7 @@
 linear theory, decay along the flume, reflection with the damping zone, mass and paddle leaks.
 
     pvpython pipelines/validation/case_waves.py [--paddle piston|flap] [--per-height 10] [--kh 1.5] [--periods 10]
+        [--depth 0.2] [--h-over-dx 1.414] [--ramp-periods 2] [--zone-at 2.1]
         [--no-damping] [--awas shallow|linear] [--threads 2] [-o DIR | --rundir DIR] [--check-height 0.05] [--check-period 0.01]
         [--check-decay 0.05] [--check-kr 0.10]
 
@@ -12,8 +13,8 @@ into the folder above DIR (NAME.json) and run into DIR; --rundir analyses a fini
 The scene's paddle motion gives H, T and the depth h; its gauges (water_height probes named gNNN at NNN/100
 wavelengths from the paddle) give the surface elevation eta = h_gNNN - h. Metrics:
   H_g, T_g   mean zero up-crossing height and period at each gauge (paraview/wave_analysis.py) over the window from
-             the arrival of the ramped-up waves (ramp + x / cg + 2 T) to the first return of waves reflected by the
-             far wall (ramp + (2 x_wall - x) / cg), or the run's end; err_H = H_g / H - 1, err_T = T_g / T - 1 at the
+             the arrival of the ramped-up waves (ramp + x / cg + 2 T; --margin sets the 2) to the first return of waves
+             reflected by the far wall (ramp + (2 x_wall - x) / cg), or the run's end (--until-end: the run's end); err_H = H_g / H - 1, err_T = T_g / T - 1 at the
              gauges one to two wavelengths from the paddle
   decay      H at the farthest gauge in front of the damping zone over H at 1 L (the same window length)
   Kr         Goda & Suzuki (1976) on the gauges 1.25 L and 1.5 L (k dl = pi / 2) after the reflected waves returned
@@ -85,10 +86,20 @@ def main(argv):
     ap.add_argument("--per-height", type=float, default=10, help="particles per wave height H/dx")
     ap.add_argument("--kh", type=float, default=1.5)
     ap.add_argument("--height", type=float, default=0.04)
+    ap.add_argument("--depth", type=float, default=0.2, help="still-water depth h (m)")
+    ap.add_argument("--h-over-dx", type=float, default=1.414, help="kernel.h_over_dx (above 1.5: walls of 4 layers)")
+    ap.add_argument("--ramp-periods", type=float, default=2.0, help="the paddle's ramp in periods")
+    ap.add_argument("--zone-at", type=float, default=2.1, help="the damping zone's start in wavelengths")
     ap.add_argument("--periods", type=float, default=10)
     ap.add_argument("--no-damping", action="store_true")
     ap.add_argument("--awas", default=None, metavar="GAIN", choices=("shallow", "linear"),
                     help="active absorption at the paddle with this gain (motion.awas, docs/waves.md)")
+    ap.add_argument("--margin", type=float, default=2.0,
+                    help="periods after the ramped waves' arrival before a gauge's window opens (2; 1 is enough for the "
+                         "nearly non-dispersive front of long waves, kh 0.5: cg / c = 0.93)")
+    ap.add_argument("--until-end", action="store_true",
+                    help="windows close at the run's end, not at the return of waves reflected by the far wall "
+                         "(a damping zone in front of the wall damps them on the way in and out; say so when used)")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("-o", dest="out", default=None)
     ap.add_argument("--rundir", default=None, help="analyse this finished run instead of running")
@@ -101,9 +112,12 @@ def main(argv):
         with open(os.path.join(a.rundir, "run.json")) as f:
             scene = json.load(f)["scene"]
     else:
-        scene = make_flume.flume("waves_%s_kh%g_H%g%s" % (a.paddle, a.kh, a.per_height, "_awas" if a.awas else ""), a.paddle, 0.2, a.height, a.kh,
-                                 a.per_height, a.periods, damping=not a.no_damping,
-                                 awas=None if a.awas is None else {"gain": a.awas})
+        name = "waves_%s_kh%g_H%g%s" % (a.paddle, a.kh, a.per_height, "_awas" if a.awas else "")
+        if a.depth != 0.2 or a.h_over_dx != 1.414:
+            name += "_d%g_hdx%g" % (a.depth, a.h_over_dx)
+        scene = make_flume.flume(name, a.paddle, a.depth, a.height, a.kh, a.per_height, a.periods,
+                                 damping=not a.no_damping, awas=None if a.awas is None else {"gain": a.awas},
+                                 h_over_dx=a.h_over_dx, ramp_periods=a.ramp_periods, zone_at=a.zone_at)
     pb, body, m = paddle_of(scene)
     h = max(b["max"][1] for b in scene["bodies"] if b["kind"] == "fluid")
     H, T = m["height"], m["period"]
@@ -142,8 +156,8 @@ def main(argv):
           (h, H, T, kh, L, cg, dx, H / dx))
     window = {}
     for name, x in gauges:
-        t0 = ramp + x / cg + 2 * T
-        t1 = min(t_end, ramp + (2 * x_wall - x) / cg)
+        t0 = ramp + x / cg + a.margin * T
+        t1 = t_end if a.until_end else min(t_end, ramp + (2 * x_wall - x) / cg)
         sel = (t >= t0) & (t <= t1)
         if sel.sum() < 10 or t1 - t0 < 1.5 * T:
             print("%-6s x = %.3f m (%.2f L): window %.2f .. %.2f s too short" % (name, x, x / L, t0, t1))

@@ -60,7 +60,11 @@ def to_3d(scene, width):
     return scene
 
 
-def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_lengths=1.0, order=1, awas=None):
+def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_lengths=1.0, order=1, awas=None,
+          h_over_dx=1.414, ramp_periods=2.0, zone_at=2.1, gauges=(1.0, 1.25, 1.5, 2.0)):
+    """zone_at: where the damping zone starts, in wavelengths from the paddle (the far wall follows it after
+    zone_lengths L); gauges beyond it are dropped. h_over_dx above 1.5 gives the walls, bed and paddle 4 layers
+    (Wendland C2's support 2 h must lie inside them: 3.4 dx at 1.7), else 3."""
     k = kh / h
     omega = math.sqrt(9.81 * k * math.tanh(kh))
     T = 2 * math.pi / omega
@@ -69,17 +73,18 @@ def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_length
     dx = h / rows
     hs = piston_hs(kh) if paddle == "piston" else flap_hs(kh)
     S = H / hs
-    xzone = 2.1 * L
+    xzone = zone_at * L
     length = xzone + zone_lengths * L
     length = math.ceil(length / dx - 1e-9) * dx
-    gauges = [1.0, 1.25, 1.5, 2.0]
-    motion = {"type": paddle, "waves": "regular", "height": H, "period": r(T, 9), "ramp": r(2 * T, 6)}
+    gauges = [g for g in gauges if g < zone_at]
+    lay = 4 if h_over_dx > 1.5 else 3  # wall layers that hold the kernel's support 2 h
+    motion = {"type": paddle, "waves": "regular", "height": H, "period": r(T, 9), "ramp": r(ramp_periods * T, 6)}
     if order == 2:
         motion["order"] = 2
     if awas is not None:  # active absorption at the paddle (docs/waves.md), e.g. {} or {"gain": "linear"}
         motion["awas"] = awas
     if paddle == "flap":
-        motion["hinge"] = [r(-1.5 * dx), 0.0]
+        motion["hinge"] = [r(-0.5 * lay * dx), 0.0]
     back = S / 2 + 0.05
     scene = {
         "name": name,
@@ -91,9 +96,9 @@ def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_length
                                              if damping else "no damping zone (a wall reflects)", h,
                                              (1.0 + 2.0) * T, 1.25 * L, 1.5 * L, H, T)),
         "dimension": 2,
-        "domain": {"min": [r(-back - 4 * dx), r(-4 * dx)], "max": [r(length + 4 * dx), r(2.2 * h)]},
+        "domain": {"min": [r(-back - (lay + 1) * dx), r(-(lay + 1) * dx)], "max": [r(length + (lay + 1) * dx), r(2.2 * h)]},
         "particles": {"spacing": dx, "max_count": 2000000},
-        "kernel": {"type": "wendland_c2", "h_over_dx": 1.414},
+        "kernel": {"type": "wendland_c2", "h_over_dx": h_over_dx},
         "fluid": {"rho0": 1000.0, "c0": "auto", "c0_factor": 10},
         "gravity": [0.0, -9.81],
         "physics": {"density": "continuity", "riemann": {}},
@@ -103,11 +108,11 @@ def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_length
         "output": {"every": r(T / 4, 6), "probes_every": r(T / 50, 6)},
         "bodies": [
             {"kind": "fluid", "shape": "box", "min": [0.0, 0.0], "max": [r(length), h], "initial_pressure": "hydrostatic"},
-            {"kind": "boundary", "shape": "box", "min": [r(-back), r(-3 * dx)], "max": [r(length + 3 * dx), 0.0],
-             "layers": 3},
-            {"kind": "boundary", "shape": "box", "min": [r(length), 0.0], "max": [r(length + 3 * dx), r(1.6 * h)],
-             "layers": 3},
-            {"kind": "boundary", "shape": "box", "min": [r(-3 * dx), 0.0], "max": [0.0, r(1.6 * h)], "layers": 3,
+            {"kind": "boundary", "shape": "box", "min": [r(-back), r(-lay * dx)], "max": [r(length + lay * dx), 0.0],
+             "layers": lay},
+            {"kind": "boundary", "shape": "box", "min": [r(length), 0.0], "max": [r(length + lay * dx), r(1.6 * h)],
+             "layers": lay},
+            {"kind": "boundary", "shape": "box", "min": [r(-lay * dx), 0.0], "max": [0.0, r(1.6 * h)], "layers": lay,
              "motion": motion},
         ],
         "probes": [{"type": "water_height", "name": "g%03d" % int(round(100 * g)), "from": [r(g * L), 0.0]}

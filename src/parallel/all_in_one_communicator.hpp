@@ -17,6 +17,9 @@ class AllInOneCommunicator final : public Communicator {
   std::int64_t exscan(std::int64_t) override { return 0; }
   std::vector<std::int64_t> allgather(std::int64_t v) override { return {v}; }
   std::vector<double> allgather(double v) override { return {v}; }
+  void allgatherv(std::span<const std::byte> local, std::vector<std::byte>& out) override {
+    out.assign(local.begin(), local.end());
+  }
   std::string broadcast(const std::string& s, int) override { return s; }
   void barrier() override {}
   std::vector<std::int64_t> alltoall(const std::vector<std::int64_t>& c) override { return c; }

@@ -45,6 +45,9 @@ class Communicator {
   // Every rank's value, in rank order.
   virtual std::vector<std::int64_t> allgather(std::int64_t v) = 0;
   virtual std::vector<double> allgather(double v) = 0;
+  // Every rank's bytes, concatenated in rank order, into `out` on every rank (small payloads: a gauge's
+  // column of particles). `out` keeps its capacity: no allocation once it has held the largest payload.
+  virtual void allgatherv(std::span<const std::byte> local, std::vector<std::byte>& out) = 0;
   // `root`'s string on every rank.
   virtual std::string broadcast(const std::string& s, int root) = 0;
   virtual void barrier() = 0;
@@ -87,6 +90,9 @@ class SerialCommunicator final : public Communicator {
   std::int64_t exscan(std::int64_t) override { return 0; }
   std::vector<std::int64_t> allgather(std::int64_t v) override { return {v}; }
   std::vector<double> allgather(double v) override { return {v}; }
+  void allgatherv(std::span<const std::byte> local, std::vector<std::byte>& out) override {
+    out.assign(local.begin(), local.end());
+  }
   std::string broadcast(const std::string& s, int) override { return s; }
   void barrier() override {}
   std::vector<std::int64_t> alltoall(const std::vector<std::int64_t>& c) override { return c; }

@@ -6,6 +6,7 @@
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 
 namespace varsph::parallel {
@@ -19,6 +20,8 @@ class Mpi final : public Communicator {
   explicit Mpi(MPI_Comm c) : comm_(c) {
     MPI_Comm_rank(comm_, &rank_);
     MPI_Comm_size(comm_, &size_);
+    counts_.resize(std::size_t(size_));
+    displs_.resize(std::size_t(size_));
     MPI_Type_contiguous(int(kBlock), MPI_BYTE, &block_);
     MPI_Type_commit(&block_);
     MPI_Comm node;
@@ -57,6 +60,21 @@ class Mpi final : public Communicator {
     std::vector<double> out(static_cast<std::size_t>(size_));
     check(MPI_Allgather(&v, 1, MPI_DOUBLE, out.data(), 1, MPI_DOUBLE, comm_), "MPI_Allgather");
     return out;
+  }
+  void allgatherv(std::span<const std::byte> local, std::vector<std::byte>& out) override {
+    WaitTimer t(wait_seconds_);
+    if (local.size() > std::size_t(INT_MAX)) throw std::runtime_error("allgatherv: payload above INT_MAX bytes");
+    const int n = int(local.size());
+    check(MPI_Allgather(&n, 1, MPI_INT, counts_.data(), 1, MPI_INT, comm_), "MPI_Allgather");
+    std::size_t total = 0;
+    for (int q = 0; q < size_; ++q) {
+      if (total > std::size_t(INT_MAX)) throw std::runtime_error("allgatherv: payload above INT_MAX bytes");
+      displs_[std::size_t(q)] = int(total);
+      total += std::size_t(counts_[std::size_t(q)]);
+    }
+    out.resize(total);
+    check(MPI_Allgatherv(local.data(), n, MPI_BYTE, out.data(), counts_.data(), displs_.data(), MPI_BYTE, comm_),
+          "MPI_Allgatherv");
   }
   std::string broadcast(const std::string& s, int root) override {
     WaitTimer t(wait_seconds_);
@@ -115,6 +133,7 @@ class Mpi final : public Communicator {
   int rank_ = 0, size_ = 1, node_size_ = 1;
   MPI_Datatype block_;
   std::vector<MPI_Request> requests_;
+  std::vector<int> counts_, displs_;  // allgatherv: one per rank, sized once
 };
 
 }  // namespace

@@ -664,6 +664,9 @@ class Runner {
       p["mean_refresh_wait_seconds"] = comm_->sum(st.refresh_wait_seconds) / comm_->size();
       p["max_rebin_wait_seconds"] = comm_->max(st.rebin_wait_seconds);
       p["interior_particles"] = std::int64_t(comm_->sum(double(st.interior_particles)));
+      // the active absorption's gauge: readings whose column of particles ranks shared (gathered in serial order)
+      if (sim.motion().absorbing())
+        p["absorption_gauge_split_readings"] = std::int64_t(comm_->max(double(sim.split_column_readings())));
       // the partition's weights at the end (the same on every rank; refitted from cost in mode "cost")
       const auto& o = d->options();
       p["weights"] = {{"mode", o.weights_by_cost ? "cost" : "count"}, {"fluid", o.fluid_weight},

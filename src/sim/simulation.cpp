@@ -177,13 +177,6 @@ Simulation<D>::Simulation(const scene::Scene& scene, std::shared_ptr<parallel::C
     if (comm_->size() > 1 && scene.output_static_boundary != "every_frame")  // one static file, not pieces
       throw InputError(scene.file.string() + ": key 'output.static_boundary': \"once\" is written by one process "
                        "only; run it in one process or set \"every_frame\"");
-    if (comm_->size() > 1 && motion_->absorbing()) {
-      std::size_t b = 0;
-      while (b < motion_->laws().size() && !motion_->laws()[b].awas.on) ++b;
-      // the gauge's reading is a sum over the column's particles, which several ranks share: not bitwise yet
-      throw InputError(scene.file.string() + ": key 'bodies." + std::to_string(b) + ".motion.awas': active absorption "
-                       "is not available on several MPI ranks yet (docs/waves.md); run it in one process");
-    }
     if (comm_->size() > 1 && params_.boundary == physics::BoundaryModel::Mdbc)
       // a ghost node lies up to twice the wall thickness inside the fluid, beyond the halo of support + skin
       throw InputError(scene.file.string() + ": boundary.model = \"mdbc\" is not available on several MPI ranks yet "
@@ -609,20 +602,36 @@ double Simulation<D>::free_surface_level(double x, double y) const {
   for (const auto& b : scene_.bodies)
     if (b.kind == "fluid" && b.shape == "box" && b.min.size() == std::size_t(D)) bed = std::min(bed, b.min[D - 1]);
   if (bed == 1e300) bed = scene_.domain_min[D - 1];
-  // fluid particles near the line (horizontal distance below the support), storage order; the highest of them
+  // fluid particles near the line (horizontal distance below the support) in storage order, with their order key
   const auto& f = f_;
-  near_.clear();
-  double top = -1e300;
+  column_.clear();
   for (std::size_t j = 0; j < size(); ++j) {
     if (f.kind[j] != 0) continue;
     double d2 = (double(f.x[j][0]) - x) * (double(f.x[j][0]) - x);
     if (D == 3) d2 += (double(f.x[j][1]) - y) * (double(f.x[j][1]) - y);
     if (d2 < rc * rc) {
-      near_.push_back(std::uint32_t(j));
-      top = std::max(top, double(f.x[j][D - 1]));
+      ColumnParticle c;
+      c.order = domain_ ? std::uint64_t(domain_->order_tag(j)) : std::uint64_t(j);
+      for (int a = 0; a < D; ++a) c.x[a] = double(f.x[j][a]);
+      c.volume = double(f.mass[j]) / double(f.rho[j]);
+      column_.push_back(c);
     }
   }
-  if (near_.empty()) return bed;  // dry
+  if (domain_) {
+    // several ranks share the column: every rank gathers every rank's part and sums in the order tags' order, the
+    // serial storage order (parallel/domain.hpp), so that the indicator's sums have one process's bits on every rank
+    const auto* b = reinterpret_cast<const std::byte*>(column_.data());
+    const std::size_t mine = column_.size();
+    comm_->allgatherv(std::span<const std::byte>(b, mine * sizeof(ColumnParticle)), column_bytes_);
+    if (mine > 0 && mine * sizeof(ColumnParticle) < column_bytes_.size()) ++split_column_readings_;
+    column_.resize(column_bytes_.size() / sizeof(ColumnParticle));
+    if (!column_bytes_.empty()) std::memcpy(column_.data(), column_bytes_.data(), column_bytes_.size());
+    std::sort(column_.begin(), column_.end(),
+              [](const ColumnParticle& a, const ColumnParticle& c) { return a.order < c.order; });
+  }
+  double top = -1e300;  // the highest of them
+  for (const auto& c : column_) top = std::max(top, c.x[D - 1]);
+  if (column_.empty()) return bed;  // dry
   const double step = scene_.spacing / 4;
   auto phi_at = [&](long k) {
     Vec<D> p;
@@ -630,9 +639,11 @@ double Simulation<D>::free_surface_level(double x, double y) const {
     if (D == 3) p[1] = Real(y);
     p[D - 1] = Real(bed + double(k) * step);
     double phi = 0;
-    for (const std::uint32_t j : near_) {
-      const Real r = (p - f.x[j]).norm();
-      if (r < Real(rc)) phi += double(f.mass[j]) / double(f.rho[j]) * double(W(r).w);
+    for (const auto& c : column_) {
+      Vec<D> xj;
+      for (int a = 0; a < D; ++a) xj[a] = Real(c.x[a]);
+      const Real r = (p - xj).norm();
+      if (r < Real(rc)) phi += c.volume * double(W(r).w);
     }
     return phi;
   };

@@ -171,9 +171,14 @@ class Simulation {
   void restore_motion_state(const nlohmann::json& j) { motion_->restore_state(j); }
   // The free-surface level [m] on the vertical line at horizontal position x (3D: across position y): the highest
   // level where the fluid indicator sum_j (m_j / rho_j) W crosses 1/2, sampled every dx/4 from the bed of the
-  // scene's fluid (the water_height probe's definition, docs/results.md), over this process's owned fluid in
-  // storage order (one process: the same bits on any thread count). Serial; the active absorption's gauge.
+  // scene's fluid (the water_height probe's definition, docs/results.md), over the fluid in the serial storage
+  // order: one process's bits on any thread count and, distributed, on any number of ranks (each rank's owned
+  // particles near the line are gathered to every rank and summed in order-tag order). Collective when
+  // distributed (every rank calls it with the same line); the active absorption's gauge.
   double free_surface_level(double x, double y) const;
+  // Distributed: readings of free_surface_level whose column of particles this rank shared with another rank
+  // (it held some but not all of them); run.json reports the maximum over ranks (docs/contract.md).
+  std::int64_t split_column_readings() const { return split_column_readings_; }
   // Rigid bodies (scene bodies of kind "rigid"; bodies/rigid_bodies.hpp): null when the scene has none.
   bodies::RigidBodies<D>* rigid_bodies() { return bodies_.get(); }
   const bodies::RigidBodies<D>* rigid_bodies() const { return bodies_.get(); }
@@ -287,7 +292,15 @@ class Simulation {
   std::vector<std::uint32_t> kept_;  // particle removal: indices of the survivors
   std::vector<Real> rho_scratch_;  // Shepard re-initialisation output (sized once)
   std::vector<Vec<D>> shift_scratch_;  // shifting displacements (sized once; consumed within the step)
-  mutable std::vector<std::uint32_t> near_;  // free_surface_level: the column's particles (capacity kept)
+  // free_surface_level: the fluid particles near the gauge's line (capacity kept: no allocation in the steps)
+  struct ColumnParticle {
+    std::uint64_t order;  // its place in the serial storage order: the row in one process, the order tag on ranks
+    double x[D];          // its position (Real, exactly)
+    double volume;        // m / rho
+  };
+  mutable std::vector<ColumnParticle> column_;
+  mutable std::vector<std::byte> column_bytes_;  // distributed: every rank's column, gathered
+  mutable std::int64_t split_column_readings_ = 0;
   std::size_t n_fluid_ = 0, n_boundary_ = 0;
   Real skin_ = 0;
   double time_ = 0, dt_ = 0;

@@ -160,28 +160,70 @@ TEST(MpiRuns, WavemakerAndDampingZoneOnTwoAndThreeRanksEqualOneProcessBitwise) {
   }
 }
 
-// Active absorption at the paddle (motion.awas) is refused on several ranks before the run (exit 2 naming the key):
-// its gauge reads a column of particles that ranks share, which is not summed bitwise yet (docs/waves.md).
-TEST(MpiRuns, ActiveAbsorptionIsRefusedOnTwoRanksNamingTheKey) {
+// Active absorption at the paddle (issue 31, motion.awas, docs/waves.md "Several MPI ranks"): the flume above with an
+// absorbing piston (shallow gain, from the first step) and the damping zone, about 300 steps. The gauge sums the
+// fluid indicator over a column of particles; on several ranks each rank's part of the column is gathered and
+// summed in the serial storage order. On 2 and 3 ranks: one process's particle states bit for bit, the paddle's
+// correction state (t_k, X_c, U_c, the still-water reading; in the checkpoint header) bit for bit, tables to
+// round-off. The gauge is put where the flume is cut between ranks (about 1/n of the water from the paddle), and
+// run.json says the column was split between ranks at some readings (else the test would prove nothing). Not
+// vacuous: without motion.awas the serial state differs, and the correction moved the paddle (X_c != 0).
+TEST(MpiRuns, ActiveAbsorptionOnTwoAndThreeRanksEqualsOneProcessBitwise) {
   nlohmann::json j = nlohmann::json::parse(R"({
     "name": "flume", "setup": "paper", "dimension": 2,
     "domain": {"min": [-0.3, -0.1], "max": [1.2, 0.4]}, "particles": {"spacing": 0.01},
     "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "gravity": [0, -9.81],
-    "physics": {"riemann": {}}, "boundary": {"model": "dummy_adami"},
-    "integrator": {"type": "symplectic_euler", "cfl": 0.2}, "time": {"end": 0.01},
+    "physics": {"riemann": {}, "damping_zone": {"from": [0.7, 0], "to": [1.0, 0], "beta": 10}},
+    "boundary": {"model": "dummy_adami"},
+    "integrator": {"type": "symplectic_euler", "cfl": 0.2}, "time": {"end": 1},
+    "output": {"precision": "float64"},
     "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [1.0, 0.1], "initial_pressure": "hydrostatic"},
                {"kind": "boundary", "shape": "box", "min": [-0.25, -0.03], "max": [1.03, 0], "layers": 3},
                {"kind": "boundary", "shape": "box", "min": [1.0, 0], "max": [1.03, 0.2], "layers": 3},
                {"kind": "boundary", "shape": "box", "min": [-0.03, 0], "max": [0, 0.16], "layers": 3,
-                "motion": {"type": "piston", "height": 0.01, "period": 0.5, "awas": {}}}]})");
-  const auto dir = scratch_dir("mpi_awas");
-  const auto scene = write_scene(dir, j);
-  const auto serial = run_varsph(0, scene, dir / "serial", "");
-  EXPECT_EQ(serial.exit_code, 0) << serial.output;
-  const auto r = run_varsph(2, scene, dir / "two", "");
-  EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("bodies.3.motion.awas"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("several MPI ranks"), std::string::npos) << r.output;
+                "motion": {"type": "piston", "waves": "regular", "height": 0.01, "period": 0.5, "ramp": 0,
+                           "awas": {"gain": "shallow"}}}],
+    "probes": [{"type": "water_height", "name": "g1", "from": [0.3, 0.0]},
+               {"type": "force", "name": "paddle", "body": 3}]})");
+  const std::string args = "--set time.end=0.06 --set output.every=0.03 --set output.probes_every=0.003";
+  for (int n : {2, 3}) {
+    nlohmann::json k = j;
+    const double gauge = n == 2 ? 0.5 : 0.34;  // near the cut of the water into n boxes
+    k["bodies"][3]["motion"]["awas"]["gauge"] = gauge;
+    const std::string tag = "awas_ranks" + std::to_string(n);
+    const auto dir = scratch_dir("mpi_" + tag);
+    const auto scene = write_scene(dir, k);
+    const auto serial = run_varsph(0, scene, dir / "serial", args);
+    ASSERT_EQ(serial.exit_code, 0) << serial.output;
+    const auto steps = nlohmann::json::parse(read_text(dir / "serial" / "run.json")).at("timings").at("steps").get<long>();
+    EXPECT_GE(steps, 250) << tag;
+    const auto ref = io::read_checkpoint(last_checkpoint(dir / "serial"));
+    ASSERT_TRUE(ref.header.integrator_state.contains("wavemaker_absorption")) << tag;
+    const auto& st = ref.header.integrator_state.at("wavemaker_absorption");
+    ASSERT_EQ(st.size(), 1u);
+    EXPECT_NE(st[0].at("shift").get<std::string>(), "0000000000000000") << tag << ": the correction never moved the paddle";
+    {  // not vacuous: the same run without active absorption ends in another state
+      nlohmann::json w = k;
+      w["bodies"][3]["motion"].erase("awas");
+      const auto other = dir / "serial_without_awas";
+      const auto r = run_varsph(0, write_scene(scratch_dir("mpi_" + tag + "_without"), w), other, args);
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      EXPECT_GT(compare_states(last_checkpoint(dir / "serial"), last_checkpoint(other)).differing, 100) << tag;
+    }
+    const auto out = dir / ("ranks" + std::to_string(n));
+    const auto r = run_varsph(n, scene, out, args);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const auto run = nlohmann::json::parse(read_text(out / "run.json"));
+    EXPECT_GT(run.at("parallel").at("absorption_gauge_split_readings").get<long>(), 0)
+        << tag << ": the gauge's column never lay on two ranks (move the gauge to the cut)";
+    const StateDiff d = compare_states(last_checkpoint(dir / "serial"), last_checkpoint(out));
+    EXPECT_TRUE(d.same_header) << tag << ": step, time, dt or the correction's state differ";
+    EXPECT_GT(d.particles, 1000);
+    EXPECT_EQ(d.differing, 0) << tag << ": " << d.first << " (max |diff| " << d.max_abs << ")";
+    const auto par = io::read_checkpoint(last_checkpoint(out));
+    EXPECT_EQ(par.header.integrator_state.at("wavemaker_absorption"), st) << tag;
+    expect_same_tables(dir / "serial", out, n);
+  }
 }
 
 #ifdef VARSPH_TEST_HAVE_GEOMETRY  // mesh bodies: a build without the geometry module refuses them (exit 2)
