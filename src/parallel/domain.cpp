@@ -111,7 +111,7 @@ void Domain<D>::compact_owned(ParticleStore& store, std::span<const std::uint32_
 
 template <int D>
 std::size_t Domain<D>::append_owned(ParticleStore& store, std::span<const std::uint32_t> src,
-                                    std::span<const std::int64_t> order) {
+                                    std::span<const std::int64_t> order, std::int64_t tag_base) {
   if (src.size() != order.size()) throw std::logic_error("Domain::append_owned: one order per source row");
   for (const std::uint32_t i : src)
     if (i >= owned_) throw std::logic_error("Domain::append_owned: not an owned row");
@@ -121,7 +121,7 @@ std::size_t Domain<D>::append_owned(ParticleStore& store, std::span<const std::u
   for (std::size_t k = 0; k < src.size(); ++k) {
     if (k > 0 && order[k] <= order[k - 1]) throw std::logic_error("Domain::append_owned: order not ascending");
     // above every (cell << 32 | place) tag (cells < 2^32 - 1), in creation order
-    (*tag_)[first + k] = std::int64_t((std::uint64_t(0xFFFFFFFFu) << 32) | std::uint64_t(order[k]));
+    (*tag_)[first + k] = std::int64_t((std::uint64_t(0xFFFFFFFFu) << 32) | std::uint64_t(tag_base + order[k]));
   }
   owned_ += src.size();
   return first;

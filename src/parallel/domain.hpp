@@ -108,8 +108,9 @@ class Domain {
   // tags put them after every existing particle, in the order `order` (ascending: the new particles' places
   // among all created this step on all ranks), as one process appends created particles at the end of its
   // store before its next sort (open boundaries). Returns the first new row. The caller then calls rebin()
-  // on every rank.
-  std::size_t append_owned(ParticleStore& store, std::span<const std::uint32_t> src, std::span<const std::int64_t> order);
+  // on every rank. `tag_base` is added to the order in the tags (a second batch of the same step, after the first).
+  std::size_t append_owned(ParticleStore& store, std::span<const std::uint32_t> src, std::span<const std::int64_t> order,
+                           std::int64_t tag_base = 0);
   // The order tag of owned row i (its cell and place at the last rebin: the serial storage order).
   std::int64_t order_tag(std::size_t i) const { return (*tag_)[i]; }
 

@@ -67,6 +67,7 @@ void parse_water_level(JsonReader& r, const std::string& base, const Scene& s, O
   const std::string key = at(base, "water_level");
   const json* wl = r.raw(key);
   if (z.kind != "inlet") r.fail(key, "no water level on an outlet (a free-surface level is an inlet key)");
+  if (z.oblique) r.fail(key, "no water level on an oblique zone yet (a free-surface inlet is a box zone given by min/max)");
   if (z.axis == v)
     r.fail_got(at(base, "direction"), "a horizontal direction for a zone with a water_level (the level is a coordinate on "
                                       "axis " + std::to_string(v) + ", the vertical)", json(z.direction));
@@ -100,45 +101,158 @@ void parse_water_level(JsonReader& r, const std::string& base, const Scene& s, O
   }
 }
 
+// A zone's corners (2^D) in the scene's coordinates: the box's, or the oblique zone's (interface rectangle
+// through `center`, swept `depth` against the normal)
+std::vector<std::vector<double>> corners(const OpenZoneSpec& z, int d) {
+  std::vector<std::vector<double>> out;
+  for (int m = 0; m < (1 << d); ++m) {
+    std::vector<double> p(static_cast<std::size_t>(d));
+    for (int a = 0; a < d; ++a) {
+      const bool up = (m >> a) & 1;
+      if (!z.oblique) {
+        p[std::size_t(a)] = up ? z.max[std::size_t(a)] : z.min[std::size_t(a)];
+        continue;
+      }
+      double v = z.center[std::size_t(a)] - ((m & 1) ? z.depth * z.direction[std::size_t(a)] : 0.0);
+      for (int k = 0; k + 1 < d; ++k)
+        v += (((m >> (k + 1)) & 1) ? 0.5 : -0.5) * z.width[std::size_t(k)] * z.tangents[std::size_t(k)][std::size_t(a)];
+      p[std::size_t(a)] = v;
+    }
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+// Keys of an oblique plane zone (docs/scene.md "Open boundaries"): center, direction (any non-zero vector,
+// normalised), depth and width multiples of the spacing (the zone's own lattice), 3D tangent normal to it.
+void parse_oblique(JsonReader& r, const std::string& base, const Scene& s, OpenZoneSpec& z) {
+  const int d = s.dimension;
+  const double dx = s.spacing;
+  for (const char* k : {"min", "max"})
+    if (r.raw(at(base, k)))
+      r.fail(at(base, k), "either min/max (a box zone) or center/direction/depth/width (an oblique plane zone), not both");
+  z.oblique = true;
+  z.center = r.vector(at(base, "center"), d, std::nullopt, "a point on the zone's interface: the centre of its face [m]");
+  z.direction = r.vector(at(base, "direction"), d, std::nullopt,
+                         "normal of the interface from the zone into the fluid (any orientation; normalised)");
+  double nn = 0;
+  for (double c : z.direction) nn += c * c;
+  nn = std::sqrt(nn);
+  if (!(nn > 1e-12) || !std::isfinite(nn))
+    r.fail_got(at(base, "direction"), "a non-zero, finite normal from the zone into the fluid", json(z.direction));
+  for (double& c : z.direction) c /= nn;
+  z.axis = 0;
+  for (int a = 1; a < d; ++a)
+    if (std::abs(z.direction[std::size_t(a)]) > std::abs(z.direction[std::size_t(z.axis)])) z.axis = a;
+  z.sign = z.direction[std::size_t(z.axis)] > 0 ? 1 : -1;
+  const auto multiple = [&](const std::string& key, double v, const std::string& what) {
+    const double cells = v / dx;
+    if (std::abs(cells - std::round(cells)) > 1e-6 || std::round(cells) < 1)
+      r.fail_got(key, what + " that is a positive multiple of particles.spacing (the zone's lattice; " +
+                          std::to_string(cells) + " spacings)", json(v));
+  };
+  z.depth = r.positive(at(base, "depth"), std::nullopt, "extent of the zone against its direction [m]");
+  multiple(at(base, "depth"), z.depth, "a depth");
+  if (d == 2) {
+    z.width = {r.positive(at(base, "width"), std::nullopt, "width of the interface along its tangent [m]")};
+    multiple(at(base, "width"), z.width[0], "a width");
+    if (r.raw(at(base, "tangent")))
+      r.fail(at(base, "tangent"), "no tangent in 2D (the interface's tangent is the direction turned by +90 degrees)");
+    z.tangents = {{-z.direction[1], z.direction[0]}};
+  } else {
+    z.width = r.vector(at(base, "width"), 2, std::nullopt, "widths of the interface rectangle along tangent and direction x tangent [m]");
+    for (int k = 0; k < 2; ++k) {
+      if (!(z.width[std::size_t(k)] > 0))
+        r.fail_got(at(base, "width"), "widths > 0 [m]", json(z.width));
+      multiple(at(base, "width"), z.width[std::size_t(k)], "widths each");
+    }
+    std::vector<double> t = r.vector(at(base, "tangent"), 3, std::nullopt,
+                                     "the interface rectangle's first side, normal to direction (normalised)");
+    double tn = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    if (!(tn > 1e-12) || !std::isfinite(tn)) r.fail_got(at(base, "tangent"), "a non-zero, finite vector", json(t));
+    for (double& c : t) c /= tn;
+    const auto& n = z.direction;
+    const double dot = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
+    if (std::abs(dot) > 1e-6)
+      r.fail_got(at(base, "tangent"), "a vector normal to direction (its normalised dot product with it is " +
+                                          std::to_string(dot) + ")", json(t));
+    const std::vector<double> t2 = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
+    z.tangents = {t, t2};
+  }
+  for (int a = 0; a < d; ++a)
+    if (s.periodic[std::size_t(a)] && std::abs(z.direction[std::size_t(a)]) > 1e-12)
+      r.fail_got(at(base, "direction"), "a normal with no component on a periodic axis (domain.periodic is true on axis " +
+                                            std::to_string(a) + ")", json(z.direction));
+  // the zone inside the domain; its bounding box in min/max
+  z.min.assign(std::size_t(d), kInf);
+  z.max.assign(std::size_t(d), -kInf);
+  for (const auto& p : corners(z, d))
+    for (int a = 0; a < d; ++a) {
+      z.min[std::size_t(a)] = std::min(z.min[std::size_t(a)], p[std::size_t(a)]);
+      z.max[std::size_t(a)] = std::max(z.max[std::size_t(a)], p[std::size_t(a)]);
+      if (p[std::size_t(a)] < s.domain_min[std::size_t(a)] - 1e-12 || p[std::size_t(a)] > s.domain_max[std::size_t(a)] + 1e-12)
+        r.fail_got(at(base, "center"), "a zone inside domain.min/max (a corner of the zone lies at " +
+                                           std::to_string(p[std::size_t(a)]) + " on axis " + std::to_string(a) + ")",
+                   json(z.center));
+    }
+  // the interface must have domain beyond it: a spacing past the face's centre along the direction
+  for (int a = 0; a < d; ++a) {
+    const double q = z.center[std::size_t(a)] + dx * z.direction[std::size_t(a)];
+    if (!(q > s.domain_min[std::size_t(a)] && q < s.domain_max[std::size_t(a)]))
+      r.fail_got(at(base, "direction"), "a direction from the zone into the domain (a spacing beyond the face's centre lies "
+                                        "outside the domain on axis " + std::to_string(a) + ")", json(z.direction));
+  }
+}
+
 OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) {
   const int d = s.dimension;
-  r.expect_keys(base, {"name", "kind", "min", "max", "direction", "velocity", "pressure", "water_level"});
+  r.expect_keys(base, {"name", "kind", "min", "max", "direction", "velocity", "pressure", "water_level", "center", "depth",
+                       "width", "tangent"});
   r.expect_keys(at(base, "velocity"), {"profile", "value", "peak", "file", "ramp", "roughness"});
   OpenZoneSpec z;
   z.name = r.text(at(base, "name"), std::nullopt);
   if (z.name.empty() || z.name.find_first_of("/\\ ") != std::string::npos)
     r.fail_got(at(base, "name"), "a non-empty name without spaces or slashes", json(z.name));
   z.kind = r.choice(at(base, "kind"), std::nullopt, {"inlet", "outlet"});
-  z.min = r.vector(at(base, "min"), d, std::nullopt, "lower corner of the zone [m]");
-  z.max = r.vector(at(base, "max"), d, std::nullopt, "upper corner of the zone [m]");
-  for (int a = 0; a < d; ++a) {
-    if (!(z.max[a] > z.min[a])) r.fail(at(base, "max"), "max > min on every axis (axis " + std::to_string(a) + " is empty)");
-    const double cells = (z.max[a] - z.min[a]) / s.spacing;
-    if (std::abs(cells - std::round(cells)) > 1e-6)
-      r.fail_got(at(base, "max"), "a box whose extent on every axis is a multiple of particles.spacing (axis " +
-                                      std::to_string(a) + ": " + std::to_string(cells) + " spacings)", json(z.max));
-    if (z.min[a] < s.domain_min[a] - 1e-12 || z.max[a] > s.domain_max[a] + 1e-12)
-      r.fail_got(at(base, "max"), "a zone inside domain.min/max (axis " + std::to_string(a) + ")", json(z.max));
-  }
-  z.direction = r.vector(at(base, "direction"), d, std::nullopt, "unit vector from the zone into the fluid");
-  int nonzero = 0;
-  for (int a = 0; a < d; ++a)
-    if (z.direction[a] != 0) {
-      ++nonzero;
-      z.axis = a;
+  if (r.raw(at(base, "center"))) {
+    parse_oblique(r, base, s, z);
+  } else {
+    for (const char* k : {"depth", "width", "tangent"})
+      if (r.raw(at(base, k)))
+        r.fail(at(base, k), "no `" + std::string(k) + "` on a box zone given by min/max (an oblique plane zone is given by "
+                            "center, direction, depth and width instead)");
+    z.min = r.vector(at(base, "min"), d, std::nullopt, "lower corner of the zone [m]");
+    z.max = r.vector(at(base, "max"), d, std::nullopt, "upper corner of the zone [m]");
+    for (int a = 0; a < d; ++a) {
+      if (!(z.max[a] > z.min[a])) r.fail(at(base, "max"), "max > min on every axis (axis " + std::to_string(a) + " is empty)");
+      const double cells = (z.max[a] - z.min[a]) / s.spacing;
+      if (std::abs(cells - std::round(cells)) > 1e-6)
+        r.fail_got(at(base, "max"), "a box whose extent on every axis is a multiple of particles.spacing (axis " +
+                                        std::to_string(a) + ": " + std::to_string(cells) + " spacings)", json(z.max));
+      if (z.min[a] < s.domain_min[a] - 1e-12 || z.max[a] > s.domain_max[a] + 1e-12)
+        r.fail_got(at(base, "max"), "a zone inside domain.min/max (axis " + std::to_string(a) + ")", json(z.max));
     }
-  if (nonzero != 1 || std::abs(z.direction[z.axis]) != 1.0)
-    r.fail_got(at(base, "direction"), "a unit vector along an axis, e.g. [1, 0] (oblique zones are not supported yet)",
-               json(z.direction));
-  z.sign = z.direction[z.axis];
-  if (s.periodic[z.axis])
-    r.fail(at(base, "direction"), "an axis that is not periodic (domain.periodic is true on axis " + std::to_string(z.axis) + ")");
-  // the interface (the face the direction points to) must have fluid beyond it: inside the domain
-  const double face = z.sign > 0 ? z.max[z.axis] : z.min[z.axis];
-  if (!(face > s.domain_min[z.axis] + 0.5 * s.spacing && face < s.domain_max[z.axis] - 0.5 * s.spacing))
-    r.fail_got(at(base, "direction"), "a direction from the zone into the domain (the zone's face at " + std::to_string(face) +
-                                          " on axis " + std::to_string(z.axis) + " has no domain beyond it)",
-               json(z.direction));
+    z.direction = r.vector(at(base, "direction"), d, std::nullopt, "unit vector from the zone into the fluid");
+    int nonzero = 0;
+    for (int a = 0; a < d; ++a)
+      if (z.direction[a] != 0) {
+        ++nonzero;
+        z.axis = a;
+      }
+    if (nonzero != 1 || std::abs(z.direction[z.axis]) != 1.0)
+      r.fail_got(at(base, "direction"), "a unit vector along an axis, e.g. [1, 0], for a box zone (min/max); an oblique zone is given by center, "
+                 "direction, depth and width instead",
+                 json(z.direction));
+    z.sign = z.direction[z.axis];
+    if (s.periodic[z.axis])
+      r.fail(at(base, "direction"), "an axis that is not periodic (domain.periodic is true on axis " + std::to_string(z.axis) + ")");
+    // the interface (the face the direction points to) must have fluid beyond it: inside the domain
+    const double face = z.sign > 0 ? z.max[z.axis] : z.min[z.axis];
+    if (!(face > s.domain_min[z.axis] + 0.5 * s.spacing && face < s.domain_max[z.axis] - 0.5 * s.spacing))
+      r.fail_got(at(base, "direction"), "a direction from the zone into the domain (the zone's face at " + std::to_string(face) +
+                                            " on axis " + std::to_string(z.axis) + " has no domain beyond it)",
+                 json(z.direction));
+  }
   if (r.raw(at(base, "water_level"))) parse_water_level(r, base, s, z);
   if (z.kind == "inlet") {
     z.profile = r.choice(at(base, "velocity.profile"), "uniform", {"uniform", "parabolic", "log_law", "file"});
@@ -221,6 +335,53 @@ bool boxes_overlap(const OpenZoneSpec& a, const OpenZoneSpec& b, int d) {
   return true;
 }
 
+// Two zones of which one at least is oblique: oriented boxes overlap unless an axis separates them (the
+// separating axis theorem: the faces' normals, and in 3D their cross products), touching faces allowed
+bool zones_overlap(const OpenZoneSpec& a, const OpenZoneSpec& b, int d) {
+  if (!a.oblique && !b.oblique) return boxes_overlap(a, b, d);
+  const auto normals = [d](const OpenZoneSpec& z) {
+    std::vector<std::vector<double>> out;
+    if (!z.oblique) {
+      for (int k = 0; k < d; ++k) {
+        std::vector<double> e(std::size_t(d), 0.0);
+        e[std::size_t(k)] = 1;
+        out.push_back(e);
+      }
+    } else {
+      out.push_back(z.direction);
+      for (const auto& t : z.tangents) out.push_back(t);
+    }
+    return out;
+  };
+  std::vector<std::vector<double>> axes = normals(a);
+  const auto nb = normals(b);
+  axes.insert(axes.end(), nb.begin(), nb.end());
+  if (d == 3)
+    for (const auto& u : normals(a))
+      for (const auto& v : nb) {
+        const std::vector<double> c = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        if (c[0] * c[0] + c[1] * c[1] + c[2] * c[2] > 1e-12) axes.push_back(c);
+      }
+  const auto ca = corners(a, d), cb = corners(b, d);
+  for (const auto& ax : axes) {
+    double la = kInf, ha = -kInf, lb = kInf, hb = -kInf, len = 0;
+    for (int k = 0; k < d; ++k) len += ax[std::size_t(k)] * ax[std::size_t(k)];
+    len = std::sqrt(len);
+    for (const auto& p : ca) {
+      double q = 0;
+      for (int k = 0; k < d; ++k) q += p[std::size_t(k)] * ax[std::size_t(k)] / len;
+      la = std::min(la, q), ha = std::max(ha, q);
+    }
+    for (const auto& p : cb) {
+      double q = 0;
+      for (int k = 0; k < d; ++k) q += p[std::size_t(k)] * ax[std::size_t(k)] / len;
+      lb = std::min(lb, q), hb = std::max(hb, q);
+    }
+    if (!(la < hb - 1e-9 && lb < ha - 1e-9)) return false;  // separated (or touching) along this axis
+  }
+  return true;
+}
+
 }  // namespace
 
 double OpenZoneSpec::level_at(double t) const { return level_t.empty() ? level : interpolate(level_t, level_z, t); }
@@ -241,7 +402,7 @@ void parse_open_boundaries(JsonReader& r, Scene& s) {
       for (std::size_t j = 0; j < k; ++j) {
         if (s.open_boundaries[j].name == s.open_boundaries[k].name)
           r.fail_got(at(base, "name"), "a name no other zone has", json(s.open_boundaries[k].name));
-        if (boxes_overlap(s.open_boundaries[j], s.open_boundaries[k], s.dimension))
+        if (zones_overlap(s.open_boundaries[j], s.open_boundaries[k], s.dimension))
           r.fail(at(base, "min"), "a zone that does not overlap zone '" + s.open_boundaries[j].name + "' (open_boundaries." +
                                       std::to_string(j) + ")");
       }

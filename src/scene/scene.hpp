@@ -91,6 +91,15 @@ struct OpenZoneSpec {
   std::vector<double> direction;    // unit axis vector from the zone into the fluid (inlets and outlets)
   int axis = 0;                     // the axis of `direction`
   double sign = 1;                  // its sign (+1 or -1)
+  // An oblique plane zone (keys `center`, `depth`, `width`, 3D `tangent` instead of `min`/`max`): the interface
+  // is the rectangle through `center` normal to `direction` (normalised; any orientation), the zone reaches
+  // `depth` against it. Tangents: 2D (-n_y, n_x); 3D `tangent` (normalised, normal to n) and n x tangent.
+  // min/max then hold the zone's bounding box. Axis-aligned zones (min/max) never take this path.
+  bool oblique = false;
+  std::vector<double> center;                // a point on the interface: the centre of the zone's face [m]
+  double depth = 0;                          // extent against `direction` [m], a multiple of the spacing
+  std::vector<double> width;                 // full widths along the tangents [m] (D - 1 of them)
+  std::vector<std::vector<double>> tangents;  // D - 1 unit vectors in the interface plane
   // inlet velocity along `direction`: "uniform" (value), "parabolic" (2D, across the zone: peak; with a
   // water level the open-channel half parabola, peak at the surface), "log_law" (water level only: depth-mean
   // value, roughness z0), "file"

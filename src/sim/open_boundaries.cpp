@@ -100,15 +100,76 @@ OpenBoundaries<D>::OpenBoundaries(const scene::Scene& s, ParticleStore& store) :
     z.rho_prescribed = spec.pressure_extrapolated || spec.hydrostatic ? Real(s.rho0) : eos.density(Real(spec.pressure));
     z.surface = spec.surface;
     z.gz = Real(-s.gravity[std::size_t(D - 1)]);
+    if (spec.oblique) {  // the plane zone's frame (scene/parse_open.cpp normalised the vectors)
+      z.oblique = true;
+      z.depth = Real(spec.depth);
+      for (int a = 0; a < D; ++a) {
+        z.n[a] = Real(spec.direction[std::size_t(a)]);
+        z.c[a] = Real(spec.center[std::size_t(a)]);
+      }
+      for (int k = 0; k + 1 < D; ++k) {
+        for (int a = 0; a < D; ++a) z.t[std::size_t(k)][a] = Real(spec.tangents[std::size_t(k)][std::size_t(a)]);
+        z.hw[std::size_t(k)] = Real(0.5 * spec.width[std::size_t(k)]);
+      }
+    }
     zones_.push_back(z);
   }
 }
 
 template <int D>
 bool OpenBoundaries<D>::beside(const Zone& z, const Vec<D>& x) const {
+  if (z.oblique) {
+    const Vec<D> r = x - z.c;
+    for (int k = 0; k + 1 < D; ++k)
+      if (std::abs(z.t[std::size_t(k)].dot(r)) > z.hw[std::size_t(k)]) return false;
+    return true;
+  }
   for (int a = 0; a < D; ++a)
     if (a != z.axis && (x[a] < z.lo[a] || x[a] > z.hi[a])) return false;
   return true;
+}
+
+template <int D>
+bool OpenBoundaries<D>::inside(const Zone& z, const Vec<D>& x, Real tol) const {
+  if (z.oblique) {
+    const Vec<D> r = x - z.c;
+    const Real d = z.n.dot(r);
+    if (!(d < -tol && d > -z.depth + tol)) return false;
+    for (int k = 0; k + 1 < D; ++k)
+      if (!(std::abs(z.t[std::size_t(k)].dot(r)) < z.hw[std::size_t(k)] - tol)) return false;
+    return true;
+  }
+  bool in = true;
+  for (int a = 0; a < D && in; ++a) in = x[a] > z.lo[a] + tol && x[a] < z.hi[a] - tol;
+  return in;
+}
+
+template <int D>
+std::array<long, D> OpenBoundaries<D>::lattice_cells(const Zone& z, double dx) const {
+  std::array<long, D> cells{};
+  if (z.oblique) {
+    cells[0] = std::lround(double(z.depth) / dx);
+    for (int k = 0; k + 1 < D; ++k) cells[std::size_t(k + 1)] = std::lround(2 * double(z.hw[std::size_t(k)]) / dx);
+  } else {
+    for (int a = 0; a < D; ++a) cells[std::size_t(a)] = std::lround(double(z.hi[a] - z.lo[a]) / dx);
+  }
+  return cells;
+}
+
+template <int D>
+Vec<D> OpenBoundaries<D>::lattice_point(const Zone& z, const std::array<long, D>& idx, double dx) const {
+  Vec<D> p;
+  if (!z.oblique) {
+    for (int a = 0; a < D; ++a) p[a] = Real(double(z.lo[a]) + (double(idx[std::size_t(a)]) + 0.5) * dx);
+    return p;
+  }
+  for (int a = 0; a < D; ++a) {  // c - (i + 1/2) dx n + sum_k ((j_k + 1/2) dx - hw_k) t_k
+    double v = double(z.c[a]) - (double(idx[0]) + 0.5) * dx * double(z.n[a]);
+    for (int k = 0; k + 1 < D; ++k)
+      v += ((double(idx[std::size_t(k + 1)]) + 0.5) * dx - double(z.hw[std::size_t(k)])) * double(z.t[std::size_t(k)][a]);
+    p[a] = Real(v);
+  }
+  return p;
 }
 
 template <int D>
@@ -128,12 +189,17 @@ Vec<D> OpenBoundaries<D>::inflow(const Zone& z, const Vec<D>& x, double t) const
       const double z0 = spec.roughness;
       speed *= sb > z0 ? std::log(sb / z0) / (std::log(H / z0) - 1) : 0.0;
     }
+  } else if (spec.profile == "parabolic" && z.oblique) {  // the same across an oblique zone's width (2D), s along its tangent
+    const double W = 2 * double(z.hw[0]);
+    const double sc = std::clamp(double(z.t[0].dot(x - z.c)) + 0.5 * W, 0.0, W);
+    speed *= 4.0 * sc * (W - sc) / (W * W);
   } else if (spec.profile == "parabolic") {  // 2D plane Poiseuille profile across the zone: 4 u_peak s (W - s) / W^2
     const int across = 1 - z.axis;
     const double W = double(z.hi[across] - z.lo[across]);
     const double sc = std::clamp(double(x[across] - z.lo[across]), 0.0, W);
     speed *= 4.0 * sc * (W - sc) / (W * W);
   }
+  if (z.oblique) return Vec<D>(z.n * Real(speed));
   u[z.axis] = Real(double(z.sign) * speed);
   return u;
 }
@@ -157,7 +223,7 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
     const Zone& z = zones_[k];
     if (double(z.depth) < double(support) * (1 - 1e-9)) {
       std::ostringstream m;
-      m << key(k, z.sign > 0 ? "min" : "max") << "the zone is " << double(z.depth) << " m deep along its direction, "
+      m << key(k, z.oblique ? "depth" : z.sign > 0 ? "min" : "max") << "the zone is " << double(z.depth) << " m deep along its direction, "
         << "thinner than the kernel support " << double(support) << " m: buffer particles must fill the support "
         << "of the fluid next to the interface; make it at least " << long(std::ceil(double(support) / dx - 1e-9))
         << " spacings deep";
@@ -173,29 +239,31 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
       faces_fluid = d > 0 && d < Real(dx);
       faces_back = faces_back || (d < -z.depth && d > -z.depth - Real(dx));
     }
-    if (!faces_fluid && (z.inlet || faces_back))
-      throw InputError(key(k, "direction") + "no fluid lies within a spacing beyond the zone's face at " +
-                       std::to_string(double(z.face)) + " on axis " + std::to_string(z.axis) +
+    if (!faces_fluid && (z.inlet || faces_back)) {
+      std::ostringstream where;
+      if (z.oblique) {
+        where << "through (";
+        for (int a = 0; a < D; ++a) where << (a ? ", " : "") << double(z.c[a]);
+        where << ")";
+      } else {
+        where << "at " << std::to_string(double(z.face)) << " on axis " << z.axis;
+      }
+      throw InputError(key(k, "direction") + "no fluid lies within a spacing beyond the zone's face " + where.str() +
                        ": the direction must point from the zone into the fluid");
+    }
     // a wall inside the zone: a boundary particle more than a hundredth of a spacing inside the box
     const Real tol = Real(0.01 * dx);
     for (std::size_t i = 0; i < n; ++i) {
       if (f.kind[i] == 0) continue;
-      bool inside = true;
-      for (int a = 0; a < D && inside; ++a) inside = f.x[i][a] > z.lo[a] + tol && f.x[i][a] < z.hi[a] - tol;
-      if (inside) {
+      if (inside(z, f.x[i], tol)) {
         std::ostringstream m;
-        m << key(k, "min") << "the zone overlaps a wall: boundary particle id " << f.id[i] << " at (";
+        m << key(k, z.oblique ? "center" : "min") << "the zone overlaps a wall: boundary particle id " << f.id[i] << " at (";
         for (int a = 0; a < D; ++a) m << (a ? ", " : "") << double(f.x[i][a]);
         m << ") of bodies." << f.body[i] << " lies inside it; place the zone in the fluid, between the walls";
         throw InputError(m.str());
       }
     }
   }
-  for (std::size_t k = 0; k < zones_.size(); ++k)
-    if (zones_[k].spec->level_varies() && sim.comm().size() > 1)
-      throw InputError(key(k, "water_level.file") + "a water level that varies in time runs in one process only "
-                       "(not yet on several MPI ranks; a fixed level does)");
   check_outlets_reachable(sim);
   // the fluid inside the zones gives way to the zones' lattices (lattice points at (i + 1/2) dx from the
   // box's lower corner: the fluid's own lattice when the box faces lie on its lattice lines)
@@ -208,16 +276,22 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
   std::vector<char> fed;
   for (std::size_t k = 0; k < zones_.size(); ++k) {
     const Zone& z = zones_[k];
-    std::array<long, D> cells{};
+    const std::array<long, D> cells = lattice_cells(z, dx);  // oblique: along -n, then the tangents
     long total = 1;
-    for (int a = 0; a < D; ++a) {
-      cells[std::size_t(a)] = std::lround(double(z.hi[a] - z.lo[a]) / dx);
-      total *= cells[std::size_t(a)];
-    }
+    for (int a = 0; a < D; ++a) total *= cells[std::size_t(a)];
     // an outlet's lattice only where fluid lies beside its interface (its first spacing beyond the face, the
     // same cell across the direction): a box taller than a free-surface flow holds no buffer above the water
     const auto across_cell = [&](const Vec<D>& x) {
       long key = 0, mul = 1;
+      if (z.oblique) {  // the column along the tangents
+        for (int j = 0; j + 1 < D; ++j) {
+          const long cj = cells[std::size_t(j + 1)];
+          const double sj = double(z.t[std::size_t(j)].dot(x - z.c) + z.hw[std::size_t(j)]);
+          key += std::clamp(long(std::floor(sj / dx)), 0L, cj - 1) * mul;
+          mul *= cj;
+        }
+        return key;
+      }
       for (int a = 0; a < D; ++a) {
         if (a == z.axis) continue;
         const long c = std::clamp(long(std::floor(double(x[a] - z.lo[a]) / dx)), 0L, cells[std::size_t(a)] - 1);
@@ -227,7 +301,7 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
       return key;
     };
     if (!z.inlet) {
-      fed.assign(std::size_t(total / cells[std::size_t(z.axis)]), 0);
+      fed.assign(std::size_t(total / cells[std::size_t(z.oblique ? 0 : z.axis)]), 0);
       for (std::size_t i = 0; i < n; ++i) {
         if (f.kind[i] != 0 || !beside(z, f.x[i])) continue;
         const Real d = distance(z, f.x[i]);
@@ -236,12 +310,12 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
     }
     for (long c = 0; c < total; ++c) {
       long r = c;
-      Vec<D> p;
+      std::array<long, D> idx{};
       for (int a = 0; a < D; ++a) {
-        const long ia = r % cells[std::size_t(a)];
+        idx[std::size_t(a)] = r % cells[std::size_t(a)];
         r /= cells[std::size_t(a)];
-        p[a] = Real(double(z.lo[a]) + (double(ia) + 0.5) * dx);
       }
+      const Vec<D> p = lattice_point(z, idx, dx);
       if (!wet(z, p, sim.time())) continue;  // a free-surface inlet: only below its water level
       if (!z.inlet && !fed[std::size_t(across_cell(p))]) continue;
       pts.push_back(p);
@@ -269,11 +343,7 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
   for (std::size_t i = 0; i < store.size(); ++i) {
     bool drop = false;
     if (i < n && f.kind[i] == 0)
-      for (const Zone& z : zones_) {
-        bool inside = true;
-        for (int a = 0; a < D && inside; ++a) inside = f.x[i][a] > z.lo[a] && f.x[i][a] < z.hi[a];
-        drop = drop || inside;
-      }
+      for (const Zone& z : zones_) drop = drop || inside(z, f.x[i], Real(0));
     if (!drop) kept_.push_back(std::uint32_t(i));
   }
   store.compact(kept_);
@@ -351,7 +421,40 @@ void OpenBoundaries<D>::check_outlets_reachable(Simulation<D>& sim) const {
     if (in) state[std::size_t(key)] = kWall;
   }
   // the cells whose centres lie in a zone's box
+  const auto cell_centre = [&](const std::array<std::int64_t, D>& c) {
+    Vec<D> p;
+    for (int a = 0; a < D; ++a) p[a] = Real(org[std::size_t(a)] + (double(c[std::size_t(a)]) + 0.5) * dx);
+    return p;
+  };
+  // an oblique zone: the cells of its bounding box (two cells around) whose centre passes `take`
+  const auto for_box_cells = [&](const Zone& z, auto&& take, auto&& visit) {
+    std::array<std::int64_t, D> c0{}, c1{};
+    for (int a = 0; a < D; ++a) {
+      const double o = org[std::size_t(a)];
+      c0[std::size_t(a)] = std::max<std::int64_t>(0, std::int64_t(std::floor((double(z.lo[a]) - o) / dx)) - 2);
+      c1[std::size_t(a)] = std::min<std::int64_t>(cells[std::size_t(a)], std::int64_t(std::floor((double(z.hi[a]) - o) / dx)) + 3);
+      if (c1[std::size_t(a)] <= c0[std::size_t(a)]) return;
+    }
+    std::array<std::int64_t, D> c = c0;
+    for (;;) {
+      if (take(cell_centre(c))) {
+        std::int64_t key = 0, mul = 1;
+        for (int a = 0; a < D; ++a) {
+          key += c[std::size_t(a)] * mul;
+          mul *= cells[std::size_t(a)];
+        }
+        visit(key, c);
+      }
+      int a = 0;
+      for (; a < D; ++a) {
+        if (++c[std::size_t(a)] < c1[std::size_t(a)]) break;
+        c[std::size_t(a)] = c0[std::size_t(a)];
+      }
+      if (a == D) return;
+    }
+  };
   const auto for_zone_cells = [&](const Zone& z, auto&& visit) {
+    if (z.oblique) return for_box_cells(z, [&](const Vec<D>& p) { return inside(z, p, Real(0)); }, visit);
     std::array<std::int64_t, D> c0{}, c1{};
     for (int a = 0; a < D; ++a) {
       const double o = org[std::size_t(a)];
@@ -406,6 +509,12 @@ void OpenBoundaries<D>::check_outlets_reachable(Simulation<D>& sim) const {
   for (std::size_t k = 0; k < zones_.size(); ++k) {
     const Zone& z = zones_[k];
     if (!z.inlet) continue;
+    if (z.oblique) {  // the cells whose centres lie within 1.5 spacings beyond the interface, beside it
+      for_box_cells(
+          z, [&](const Vec<D>& p) { const Real d = distance(z, p); return d > 0 && d <= Real(1.5 * dx) && beside(z, p); },
+          [&](std::int64_t key, const auto&) { visit(key); });
+      continue;
+    }
     for_zone_cells(z, [&](std::int64_t key, const auto& c) {
       std::int64_t nb;
       if (neighbour(key, c[std::size_t(z.axis)], z.axis, z.sign > 0 ? 1 : -1, nb)) visit(nb);
@@ -619,7 +728,8 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
       const std::size_t i = first + c;
       const Zone& z = zones_[std::size_t(created_zone_[c])];
       Vec<D> shift = Vec<D>::Zero();
-      shift[z.axis] = -z.sign * z.depth;
+      if (z.oblique) shift = -z.depth * z.n;  // one depth upstream along the normal
+      else shift[z.axis] = -z.sign * z.depth;
       f.x[i] += shift;
       for (auto* pl : sim.position_like()) pl->data[i] += shift;
       zone_->data[i] = created_zone_[c];
@@ -628,10 +738,10 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
     }
     flow.created += long(created_total);
   }
-  std::size_t risen = 0;  // a varying water level that rose: new lattice rows (one process, refused on several ranks)
+  std::size_t risen = 0;  // a varying water level that rose: new lattice rows (the same count on every rank)
   for (const Zone& z : zones_)
     if (z.spec->level_varies()) {
-      risen = fill_risen_rows(sim, step_t0_, sim.time());
+      risen = fill_risen_rows(sim, step_t0_, sim.time(), created_total);
       break;
     }
   if (!removed_.empty()) {  // removed_ is ascending (storage order) and below the created copies
@@ -660,7 +770,7 @@ void OpenBoundaries<D>::after_step(Simulation<D>& sim) {
 }
 
 template <int D>
-std::size_t OpenBoundaries<D>::fill_risen_rows(Simulation<D>& sim, double t0, double t1) {
+std::size_t OpenBoundaries<D>::fill_risen_rows(Simulation<D>& sim, double t0, double t1, std::int64_t created_before) {
   auto& f = sim.fields();
   const double dx = scene_.spacing;
   row_pts_.clear();
@@ -694,13 +804,35 @@ std::size_t OpenBoundaries<D>::fill_risen_rows(Simulation<D>& sim, double t0, do
   if (row_pts_.empty()) return 0;
   // copies of a fluid particle (every registered field gets a value), then the lattice point's state
   std::uint32_t src = UINT32_MAX;
-  for (std::size_t i = 0; i < sim.size() && src == UINT32_MAX; ++i)
-    if (f.kind[i] == 0) src = std::uint32_t(i);
-  if (src == UINT32_MAX) return 0;  // no fluid left at all: nothing to copy from
-  created_src_.assign(row_pts_.size(), src);
-  const std::size_t first = sim.create_particles(created_src_);
+  std::size_t first = 0, made = row_pts_.size();
+  if (parallel::Domain<D>* dom = sim.domain()) {
+    // one process's source, the first fluid particle in its storage order: the smallest order tag on any rank
+    std::int64_t best = std::numeric_limits<std::int64_t>::max();
+    for (std::size_t i = 0; i < sim.size(); ++i)
+      if (f.kind[i] == 0 && dom->order_tag(i) < best) {
+        best = dom->order_tag(i);
+        src = std::uint32_t(i);
+      }
+    const std::vector<std::int64_t> all = sim.comm().allgather(best);
+    int winner = -1;  // tags are unique: one rank holds the smallest
+    std::int64_t lowest = std::numeric_limits<std::int64_t>::max();
+    for (int q = 0; q < int(all.size()); ++q)
+      if (all[std::size_t(q)] < lowest) lowest = all[std::size_t(q)], winner = q;
+    if (winner < 0) return 0;  // no fluid left on any rank: nothing to copy from (every rank alike)
+    made = winner == sim.comm().rank() ? row_pts_.size() : 0;
+    created_src_.assign(made, src);
+    order_.resize(made);
+    for (std::size_t c = 0; c < made; ++c) order_[c] = std::int64_t(c);
+    first = sim.create_particles(created_src_, order_, std::int64_t(row_pts_.size()), created_before);
+  } else {
+    for (std::size_t i = 0; i < sim.size() && src == UINT32_MAX; ++i)
+      if (f.kind[i] == 0) src = std::uint32_t(i);
+    if (src == UINT32_MAX) return 0;  // no fluid left at all: nothing to copy from
+    created_src_.assign(row_pts_.size(), src);
+    first = sim.create_particles(created_src_);
+  }
   const Real mass = Real(scene_.rho0 * std::pow(dx, D));
-  for (std::size_t c = 0; c < row_pts_.size(); ++c) {
+  for (std::size_t c = 0; c < made; ++c) {
     const std::size_t i = first + c;
     const Zone& z = zones_[std::size_t(created_zone_[c])];
     f.x[i] = row_pts_[c];
@@ -759,6 +891,7 @@ void OpenBoundaries<D>::impose(Simulation<D>& sim) {
   // the ghost node: the buffer particle's mirror image across the interface, inside the fluid
   const auto ghost_node = [&](std::size_t i) {
     const Zone& z = zones_[std::size_t(zone[i])];
+    if (z.oblique) return Vec<D>(x[i] - Real(2) * z.n.dot(x[i] - z.c) * z.n);  // mirrored across the plane
     Vec<D> xg = x[i];
     xg[z.axis] = Real(2) * z.face - x[i][z.axis];
     return xg;

@@ -8,6 +8,10 @@
 // a ghost node (Liu & Liu 2006), is already varsph's (physics/corrected_interpolation.hpp, mDBC, probes).
 //  - A zone is a box beside the fluid, its interface the face its `direction` (a unit axis vector from
 //    the zone into the fluid) points to; its depth along the direction must cover the kernel support.
+//    Or an oblique plane zone: an interface rectangle of any orientation (centre, unit normal `direction`,
+//    widths along its tangents) swept `depth` against the normal, with its own lattice on planes parallel
+//    to the interface; the same scheme along the normal (distance n.(x - c), ghost node x - 2 s n, copies
+//    one depth upstream along -n).
 //  - Buffer particles are fluid particles (kind 0) tagged with their zone in the registered field
 //    `open_zone` (-1: not a buffer). They take part in every neighbour sum as fluid, but their state is
 //    imposed: each moves with the velocity it had at the start of the step (x = x0 + dt v0, Tafuni
@@ -35,6 +39,7 @@
 // tags that sort them after every existing particle) as one process does; a buffer particle whose ghost node
 // lies in another rank's cells has its fit computed there (all its neighbours are there, in the serial order)
 // and sent back. Not available on the device (refused at start, naming the key).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -84,16 +89,34 @@ class OpenBoundaries {
     // free-surface inlet (water_level): the vertical axis D - 1; |g_z| for the hydrostatic density
     bool surface = false;
     Real gz = 0;
+    // an oblique plane zone (scene keys center/depth/width): the unit normal n into the fluid, the interface's
+    // centre c, the unit tangents and half-widths; lo/hi are then its bounding box. Its lattice: points
+    // c - (i + 1/2) dx n + sum_k ((j_k + 1/2) dx - hw_k) t_k, on planes parallel to the interface.
+    bool oblique = false;
+    Vec<D> n = Vec<D>::Zero(), c = Vec<D>::Zero();
+    std::array<Vec<D>, D - 1> t{};
+    std::array<Real, D - 1> hw{};
   };
+  // an oblique zone's lattice point of index (i along -n, j_k along t_k)
+  Vec<D> lattice_point(const Zone& z, const std::array<long, D>& idx, double dx) const;
+  // the zone's lattice counts: axis-aligned, per axis; oblique, along -n first, then along each tangent
+  std::array<long, D> lattice_cells(const Zone& z, double dx) const;
+  // strictly inside the zone (its box, or its oblique extent), by tol
+  bool inside(const Zone& z, const Vec<D>& x, Real tol) const;
   // a free-surface inlet's buffer particle at x lies below the water level at time t (its lattice row is wet)
   bool wet(const Zone& z, const Vec<D>& x, double t) const {
     return !z.surface || double(x[D - 1]) < z.spec->level_at(t);
   }
   // A time-varying level that rose during the step [t0, t1]: the zone's lattice rows that became wet get
-  // buffer particles (one process; appended after the step's copies). Returns the number created.
-  std::size_t fill_risen_rows(Simulation<D>& sim, double t0, double t1);
+  // buffer particles, appended after the step's `created_before` copies (ids, and on several ranks order tags,
+  // after theirs). Every rank lists the same rows; on several ranks the rank that owns one process's source
+  // particle (the first fluid particle in the serial storage order: the smallest order tag) creates them all,
+  // copies of that particle as in one process, and the rebin moves them to their owners. Returns the number.
+  std::size_t fill_risen_rows(Simulation<D>& sim, double t0, double t1, std::int64_t created_before);
   // Signed distance from the interface along the direction (< 0 inside the zone's depth).
-  Real distance(const Zone& z, const Vec<D>& x) const { return z.sign * (x[z.axis] - z.face); }
+  Real distance(const Zone& z, const Vec<D>& x) const {
+    return z.oblique ? z.n.dot(x - z.c) : z.sign * (x[z.axis] - z.face);
+  }
   bool beside(const Zone& z, const Vec<D>& x) const;  // within the box's extent across the direction
   Vec<D> inflow(const Zone& z, const Vec<D>& x, double t) const;
   // InputError naming the first outlet that no inlet reaches through the domain (walls in between).

@@ -332,9 +332,9 @@ std::size_t Simulation<D>::create_particles(std::span<const std::uint32_t> src) 
 
 template <int D>
 std::size_t Simulation<D>::create_particles(std::span<const std::uint32_t> src, std::span<const std::int64_t> order,
-                                            std::int64_t total) {
+                                            std::int64_t total, std::int64_t tag_base) {
   if (store_.size() + src.size() >= std::size_t(UINT32_MAX)) throw NumericalError("too many particles created");
-  const std::size_t first = domain_ ? domain_->append_owned(store_, src, order) : store_.append_copies(src);
+  const std::size_t first = domain_ ? domain_->append_owned(store_, src, order, tag_base) : store_.append_copies(src);
   for (std::size_t k = 0; k < src.size(); ++k) f_.id[first + k] = next_id_ + order[k];
   next_id_ += total;
   return first;

@@ -248,9 +248,10 @@ class Simulation {
   // among the `total` particles created this step on all ranks, in the order one process would create
   // them (ascending); its id is next_id() + order[k], and the counter advances by `total` on every rank,
   // so ids do not depend on the rank count. Distributed: the ghosts are dropped (Domain::append_owned) and
-  // the caller rebins on every rank.
+  // the caller rebins on every rank. `tag_base`: the places of particles already created this step before
+  // these (a second batch: their order tags follow the first batch's, as one process appends them after it).
   std::size_t create_particles(std::span<const std::uint32_t> src, std::span<const std::int64_t> order,
-                               std::int64_t total);
+                               std::int64_t total, std::int64_t tag_base = 0);
   std::int64_t next_id() const { return next_id_; }
   // Inlets and outlets (scene `open_boundaries`); null when the scene has none.
   OpenBoundaries<D>* open_boundaries() { return open_.get(); }
