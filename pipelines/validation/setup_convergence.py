@@ -143,8 +143,8 @@ def main():
         with open(jpath) as f:
             records = json.load(f)["records"]
     done = {(r["case"], r["N"]) for r in records}
-    todo = [("column", n) for n in col] + [("buchner", n) for n in buc]
-    for case, n in todo:
+    plan = [("column", n) for n in col] + [("buchner", n) for n in buc]
+    for case, n in plan:
         if (case, n) in done:
             continue
         print(f"{case} H/dx {n} ...", flush=True)
