@@ -2,9 +2,9 @@
 """Writes pipelines/open/pipe_3d.json: Hagen-Poiseuille flow in a circular pipe along x (radius R = 0.5 m, length
 L = 1.5 m, nu = 1 m^2/s, rho0 = 1000, c0 = 20 m/s, mean speed U = 0.1 m/s, Re = 2 U R / nu = 0.1) with a **disc
 inlet** (`radius`, profile `parabolic`: u = 2 U (1 - r^2 / R^2)) and a disc outlet at p = 0 (issue 32,
-docs/open_boundaries.md "Polygon and disc interfaces"). The fluid and 3 layers of wall are `points` bodies on the
+docs/open_boundaries.md "Polygon and disc interfaces"). The fluid and 4 layers of wall are `points` bodies on the
 lattice of the disc's bounding square (the disc zone's own lattice: nodes at -R + (j + 1/2) dx about the axis),
-fluid where r < R, wall where R <= r < R + 3 dx, over the zones' length too.
+fluid where r < R, wall where R <= r < R + 4 dx, over the zones' length too.
 
     python3 pipelines/open/make_pipe_3d.py [--per-radius N] [--end T] [-o FILE]
 
@@ -18,7 +18,7 @@ import math
 import os
 
 R, L, U, NU = 0.5, 1.5, 0.1, 1.0
-LAYERS = 3  # Wendland C2 at h/dx 1.3: support 2.6 dx
+LAYERS = 4  # Wendland C2 at h/dx 1.6: support 3.2 dx
 
 
 def scene(per_r, t_end):
@@ -47,7 +47,7 @@ def scene(per_r, t_end):
         "dimension": 3,
         "domain": {"min": [-LAYERS * dx - m, -e, -e], "max": [L + LAYERS * dx + m, e, e]},
         "particles": {"spacing": dx},
-        "kernel": {"type": "wendland_c2", "h_over_dx": 1.3},
+        "kernel": {"type": "wendland_c2", "h_over_dx": 1.6},
         "fluid": {"rho0": 1000.0, "c0": 20.0},
         "bodies": [
             {"kind": "fluid", "shape": "points", "points": fluid},
