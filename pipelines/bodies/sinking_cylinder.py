@@ -31,9 +31,9 @@ import csv
 import math
 import os
 import re
-import subprocess
 import sys
-import time
+
+from harness_common import interp, read_pairs, run_scene
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -47,35 +47,8 @@ REFERENCES = (("Fekken 2004", "fekken2004_sinking_cylinder_%s.csv", 0.0),
               ("Moyo & Greenhow 2000", "moyo_greenhow2000_sinking_cylinder_%s.csv", 0.5))  # displacement from T0
 
 
-def read_pairs(path):
-    with open(path) as f:
-        rows = [r for r in csv.reader(l for l in f if not l.startswith("#")) if r]
-    return [(float(a), float(b)) for a, b in rows[1:]]
-
-
-def interp(xs, ys, x):
-    if x < xs[0] or x > xs[-1]:
-        return None
-    k = 0
-    while xs[k + 1] < x:
-        k += 1
-    w = (x - xs[k]) / (xs[k + 1] - xs[k])
-    return ys[k] + w * (ys[k + 1] - ys[k])
-
-
 def run_case(dx, threads, outdir, sets, timeout):
-    cmd = [os.environ.get("VARSPH_BIN", os.path.join(ROOT, "build", "release", "bin", "varsph")), "run", SCENE,
-           "-o", outdir, "--overwrite", "--quiet", "--threads", str(threads), "--set", "particles.spacing=%r" % dx]
-    for s in sets:
-        cmd += ["--set", s]
-    l0 = os.getloadavg()[0]
-    w0 = time.monotonic()
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    wall = time.monotonic() - w0
-    if p.returncode != 0:
-        print(p.stdout + p.stderr, file=sys.stderr)
-        raise SystemExit(3)
-    return wall, l0, os.getloadavg()[0]
+    return run_scene(SCENE, outdir, threads, ["particles.spacing=%r" % dx] + list(sets), timeout)
 
 
 def evaluate(outdir):
