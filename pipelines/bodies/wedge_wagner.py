@@ -21,7 +21,8 @@ half-breadth B (after the first instants; before the knuckle):
     gap of two spacings), mean of both sides, against Wagner's c.
 
 Against the similarity solution (exact potential flow, Dobrovol'skaya 1969, tabulated by Zhao & Faltinsen 1993; the figures
-with their provenance, UNVERIFIED, in tests/data/zhao_faltinsen1993_wedge_similarity.csv): the force slope over its
+with their provenance in tests/data/zhao_faltinsen1993_wedge_similarity.csv: recalled, confirmed within a few per cent by
+bench/bodies/wedge_similarity_bem, docs/validation.md section 18): the force slope over its
 F / (rho V^3 t), and from the face pressure collapsed in the self-similar variable xi = x / (V t) over the frames of the
 window (fluid particles within 1.5 dx of the face, bins of 0.1 in xi; written to RUN/face_pressure.csv) the largest
 pressure coefficient Cp_max = p / (rho V^2 / 2) and the height of its point above the still water, z_max / (V t) =
@@ -260,7 +261,7 @@ def main():
     ap.add_argument("--reuse", action="store_true", help="evaluate existing runs in --out without running")
     ap.add_argument("--p-root", type=float, default=P_ROOT, help="spray root: pressure above this x rho V^2")
     ap.add_argument("--check-force", type=float, help="bound on |F slope / reference - 1| (--force-reference)")
-    ap.add_argument("--force-reference", choices=["wagner", "similarity"], default="wagner",
+    ap.add_argument("--force-reference", choices=["wagner", "similarity"], default="wagner",  # the test: similarity
                     help="what --check-force judges against (wagner: the issue's goal; similarity: the table in tests/data)")
     ap.add_argument("--reference-check", action="store_true", help="print the similarity table's consistency checks")
     ap.add_argument("--check-width", type=float, help="bound on the mean |c / c_Wagner - 1| over the frames")
@@ -292,7 +293,7 @@ def main():
         print("  force against the modified Logvinovich model (F = %.2f rho V^3 t, %.3f x Wagner's): %+.1f %%"
               % (mlm, mlm / wagner_f(1.0) * RHO * V ** 3, 100 * (slope * wagner_f(1.0) / (mlm * RHO * V ** 3) - 1)))
         sim_ratio = slope * wagner_f(1.0) / (sim[2] * RHO * V ** 3)
-        print("  force against the similarity solution (F = %.3f rho V^3 t, %.3f x Wagner's; UNVERIFIED table): "
+        print("  force against the similarity solution (F = %.3f rho V^3 t, %.3f x Wagner's; recalled table, BEM-confirmed): "
               "slope %.3f (%+.1f %%)" % (sim[2], sim[2] * RHO * V ** 3 / wagner_f(1.0), sim_ratio, 100 * (sim_ratio - 1)))
         # face pressure collapsed in xi = x / (V t); bins with fewer samples than a tenth of the fullest are noise
         nmax = max(b[1] for b in bins.values())
