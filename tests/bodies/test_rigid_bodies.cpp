@@ -15,6 +15,7 @@
 #include "core/errors.hpp"
 #include "scene/scene.hpp"
 #include "sim/simulation.hpp"
+#include "restart_support.hpp"
 #include "test_support.hpp"
 
 using namespace varsph;
@@ -159,21 +160,10 @@ TEST(RigidBodies, ARestartContinuesBitwise) {
   j["output"] = {{"every", 0.01}, {"probes_every", 0.002}};
   j["checkpoint"] = {{"every", 0.01}};
   std::ofstream(dir / "scene.json") << j.dump(1);
-  const std::string exe = test::varsph_exe().string();
-  auto r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "full").string() + " --quiet");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string full = test::read_text(dir / "full" / "bodies.csv");
-  // the same run stopped at t = 0.01 (its end checkpoint) and continued from it
-  r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "part").string() +
-                        " --quiet --set time.end=0.01");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  fs::path ckpt;
-  for (const auto& e : fs::directory_iterator(dir / "part" / "checkpoints")) ckpt = e.path();
-  r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "part").string() +
-                        " --quiet --restart " + ckpt.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string cont = test::read_text(dir / "part" / "bodies.csv");
-  EXPECT_EQ(full, cont);
+  const auto t = test::run_full_and_restarted(dir / "scene.json", dir, "0.01", "bodies.csv");
+  ASSERT_TRUE(t.error.empty()) << t.error;
+  const std::string& full = t.full;
+  EXPECT_EQ(full, t.continued);  // stopped at t = 0.01 (its end checkpoint) and continued from it
   EXPECT_GT(std::count(full.begin(), full.end(), '\n'), 20);
 }
 

@@ -14,6 +14,7 @@
 #include "scene/scene.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/simulation.hpp"
+#include "restart_support.hpp"
 #include "test_support.hpp"
 
 using namespace varsph;
@@ -98,19 +99,10 @@ TEST(VariationalBodies, ARestartContinuesBitwise) {
   j["output"] = {{"every", 0.005}, {"probes_every", 0.001}};
   j["checkpoint"] = {{"every", 0.005}};
   std::ofstream(dir / "scene.json") << j.dump(1);
-  const std::string exe = test::varsph_exe().string();
-  auto r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "full").string() + " --quiet");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string full = test::read_text(dir / "full" / "bodies.csv");
-  r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "part").string() +
-                        " --quiet --set time.end=0.005");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  fs::path ckpt;
-  for (const auto& e : fs::directory_iterator(dir / "part" / "checkpoints")) ckpt = e.path();
-  r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "part").string() +
-                        " --quiet --restart " + ckpt.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(full, test::read_text(dir / "part" / "bodies.csv"));
+  const auto t = test::run_full_and_restarted(dir / "scene.json", dir, "0.005", "bodies.csv");
+  ASSERT_TRUE(t.error.empty()) << t.error;
+  const std::string& full = t.full;
+  EXPECT_EQ(full, t.continued);
   EXPECT_GT(std::count(full.begin(), full.end(), '\n'), 8);
 }
 

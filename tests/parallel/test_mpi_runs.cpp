@@ -119,6 +119,31 @@ TEST(MpiRuns, FloatingBoxInWavesOnTwoAndThreeRanksEqualsOneProcessBitwise) {
   for (const char* n : {"ranks2", "ranks3"}) EXPECT_EQ(serial, read_text(base / n / "bodies.csv")) << n;
 }
 
+// The small 2D flume of the wave tests below: water 1 m x 0.1 m at dx = 1 cm (1000 fluid particles) from x = 0, a
+// bed, a far wall at x = 1 m and the paddle (body 3, no motion yet) at x = 0; dummy walls, Riemann dissipation,
+// a damping zone from `damping_from` to the far wall; a water-height gauge at x = 0.3 m and the paddle's force.
+nlohmann::json small_flume(double damping_from) {
+  nlohmann::json j = nlohmann::json::parse(R"({
+    "name": "flume", "setup": "paper", "dimension": 2,
+    "domain": {"min": [-0.3, -0.1], "max": [1.2, 0.4]}, "particles": {"spacing": 0.01},
+    "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "gravity": [0, -9.81],
+    "physics": {"riemann": {}, "damping_zone": {"to": [1.0, 0], "beta": 10}},
+    "boundary": {"model": "dummy_adami"},
+    "integrator": {"type": "symplectic_euler", "cfl": 0.2}, "time": {"end": 1},
+    "output": {"precision": "float64"},
+    "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [1.0, 0.1], "initial_pressure": "hydrostatic"},
+               {"kind": "boundary", "shape": "box", "min": [-0.25, -0.03], "max": [1.03, 0], "layers": 3},
+               {"kind": "boundary", "shape": "box", "min": [1.0, 0], "max": [1.03, 0.2], "layers": 3},
+               {"kind": "boundary", "shape": "box", "min": [-0.03, 0], "max": [0, 0.16], "layers": 3}],
+    "probes": [{"type": "water_height", "name": "g1", "from": [0.3, 0.0]},
+               {"type": "force", "name": "paddle", "body": 3}]})");
+  j["physics"]["damping_zone"]["from"] = {damping_from, 0};
+  return j;
+}
+
+// about 300 steps of the small flume (CFL 0.2: dt ~ 2e-4 s)
+const char* const kFlumeArgs = "--set time.end=0.06 --set output.every=0.03 --set output.probes_every=0.003";
+
 // Wavemakers and the damping zone (issue 31, docs/waves.md): a small 2D flume (water 1 m x 0.1 m, dx = 1 cm,
 // 1000 fluid particles, dummy walls with the paddle's acceleration), a piston and a flap paddle moving from the
 // first step (no ramp) and a damping zone over the far half, 300 steps; a water-height gauge and the paddle's
@@ -127,27 +152,13 @@ TEST(MpiRuns, FloatingBoxInWavesOnTwoAndThreeRanksEqualsOneProcessBitwise) {
 // motion each change the serial state.
 TEST(MpiRuns, WavemakerAndDampingZoneOnTwoAndThreeRanksEqualOneProcessBitwise) {
   for (const char* paddle : {"piston", "flap"}) {
-    nlohmann::json j = nlohmann::json::parse(R"({
-      "name": "flume", "setup": "paper", "dimension": 2,
-      "domain": {"min": [-0.3, -0.1], "max": [1.2, 0.4]}, "particles": {"spacing": 0.01},
-      "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "gravity": [0, -9.81],
-      "physics": {"riemann": {}, "damping_zone": {"from": [0.5, 0], "to": [1.0, 0], "beta": 10}},
-      "boundary": {"model": "dummy_adami"},
-      "integrator": {"type": "symplectic_euler", "cfl": 0.2}, "time": {"end": 1},
-      "output": {"precision": "float64"},
-      "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [1.0, 0.1], "initial_pressure": "hydrostatic"},
-                 {"kind": "boundary", "shape": "box", "min": [-0.25, -0.03], "max": [1.03, 0], "layers": 3},
-                 {"kind": "boundary", "shape": "box", "min": [1.0, 0], "max": [1.03, 0.2], "layers": 3},
-                 {"kind": "boundary", "shape": "box", "min": [-0.03, 0], "max": [0, 0.16], "layers": 3}],
-      "probes": [{"type": "water_height", "name": "g1", "from": [0.3, 0.0]},
-                 {"type": "force", "name": "paddle", "body": 3}]})");
+    nlohmann::json j = small_flume(0.5);
     j["bodies"][3]["motion"] = {{"type", paddle}, {"waves", "regular"}, {"height", 0.01}, {"period", 0.5}, {"ramp", 0}};
     if (std::string(paddle) == "flap") j["bodies"][3]["motion"]["hinge"] = {-0.015, 0.0};
     const std::string tag = std::string("waves_") + paddle;
     const auto dir = scratch_dir("mpi_" + tag);
     const auto scene = write_scene(dir, j);
-    // about 300 steps (CFL 0.2: dt ~ 2e-4 s)
-    const std::string args = "--set time.end=0.06 --set output.every=0.03 --set output.probes_every=0.003";
+    const std::string args = kFlumeArgs;
     const auto serial = run_varsph(0, scene, dir / "serial", args);
     ASSERT_EQ(serial.exit_code, 0) << serial.output;
     const auto steps = nlohmann::json::parse(read_text(dir / "serial" / "run.json")).at("timings").at("steps").get<long>();
@@ -184,23 +195,10 @@ TEST(MpiRuns, WavemakerAndDampingZoneOnTwoAndThreeRanksEqualOneProcessBitwise) {
 // run.json says the column was split between ranks at some readings (else the test would prove nothing). Not
 // vacuous: without motion.awas the serial state differs, and the correction moved the paddle (X_c != 0).
 TEST(MpiRuns, ActiveAbsorptionOnTwoAndThreeRanksEqualsOneProcessBitwise) {
-  nlohmann::json j = nlohmann::json::parse(R"({
-    "name": "flume", "setup": "paper", "dimension": 2,
-    "domain": {"min": [-0.3, -0.1], "max": [1.2, 0.4]}, "particles": {"spacing": 0.01},
-    "kernel": {"type": "wendland_c2", "h_over_dx": 1.414}, "gravity": [0, -9.81],
-    "physics": {"riemann": {}, "damping_zone": {"from": [0.7, 0], "to": [1.0, 0], "beta": 10}},
-    "boundary": {"model": "dummy_adami"},
-    "integrator": {"type": "symplectic_euler", "cfl": 0.2}, "time": {"end": 1},
-    "output": {"precision": "float64"},
-    "bodies": [{"kind": "fluid", "shape": "box", "min": [0, 0], "max": [1.0, 0.1], "initial_pressure": "hydrostatic"},
-               {"kind": "boundary", "shape": "box", "min": [-0.25, -0.03], "max": [1.03, 0], "layers": 3},
-               {"kind": "boundary", "shape": "box", "min": [1.0, 0], "max": [1.03, 0.2], "layers": 3},
-               {"kind": "boundary", "shape": "box", "min": [-0.03, 0], "max": [0, 0.16], "layers": 3,
-                "motion": {"type": "piston", "waves": "regular", "height": 0.01, "period": 0.5, "ramp": 0,
-                           "awas": {"gain": "shallow"}}}],
-    "probes": [{"type": "water_height", "name": "g1", "from": [0.3, 0.0]},
-               {"type": "force", "name": "paddle", "body": 3}]})");
-  const std::string args = "--set time.end=0.06 --set output.every=0.03 --set output.probes_every=0.003";
+  nlohmann::json j = small_flume(0.7);
+  j["bodies"][3]["motion"] = nlohmann::json::parse(
+      R"({"type": "piston", "waves": "regular", "height": 0.01, "period": 0.5, "ramp": 0, "awas": {"gain": "shallow"}})");
+  const std::string args = kFlumeArgs;
   for (int n : {2, 3}) {
     nlohmann::json k = j;
     const double gauge = n == 2 ? 0.5 : 0.34;  // near the cut of the water into n boxes

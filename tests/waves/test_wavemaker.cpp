@@ -17,6 +17,7 @@
 #include "real_tolerance.hpp"
 #include "scene/scene.hpp"
 #include "sim/simulation.hpp"
+#include "restart_support.hpp"
 #include "test_support.hpp"
 #include "waves/paddle_signal.hpp"
 #include "waves/wave_theory.hpp"
@@ -243,19 +244,10 @@ TEST(Wavemaker, ARestartContinuesBitwise) {
   j["probes"] = {{{"type", "water_height"}, {"name", "g1"}, {"from", {0.3, 0.0}}},
                  {{"type", "force"}, {"name", "paddle"}, {"body", 3}}};
   std::ofstream(dir / "scene.json") << j.dump(1);
-  const std::string exe = test::varsph_exe().string();
-  auto r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "full").string() + " --quiet");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string full = test::read_text(dir / "full" / "probes.csv");
-  r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "part").string() +
-                        " --quiet --set time.end=0.02");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  fs::path ckpt;
-  for (const auto& e : fs::directory_iterator(dir / "part" / "checkpoints")) ckpt = e.path();
-  r = test::run_command(exe + " run " + (dir / "scene.json").string() + " -o " + (dir / "part").string() +
-                        " --quiet --restart " + ckpt.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(full, test::read_text(dir / "part" / "probes.csv"));
+  const auto t = test::run_full_and_restarted(dir / "scene.json", dir, "0.02", "probes.csv");
+  ASSERT_TRUE(t.error.empty()) << t.error;
+  const std::string& full = t.full;
+  EXPECT_EQ(full, t.continued);
   EXPECT_GT(std::count(full.begin(), full.end(), '\n'), 15);
 }
 
