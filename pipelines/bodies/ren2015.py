@@ -125,7 +125,8 @@ def evaluate(outdir, roll_sign, steady, shift_range):
     surge, heave, roll = b["x"] - b["x"][0], b["y"] - b["y"][0], roll_sign * np.degrees(b["angle"])
     t1 = min(td[-1], t[-1])
     if t[-1] < td[-1] - 1e-9:
-        print("  note: the run ends at %.3f s, before the data's last row (%.3f s): figures over the overlap" % (t[-1], td[-1]))
+        print("  note: the run ends at %.3f s, before the data's last row (%.3f s): figures over the overlap"
+              % (t[-1], td[-1]))
     keep = td <= t1
     td, sd, hd, rd = td[keep], sd[keep], hd[keep], rd[keep]
 
@@ -174,7 +175,8 @@ def evaluate(outdir, roll_sign, steady, shift_range):
             gauges[g] = wa.statistics(tp[m], eta[g][m])
     pairs = {}
     for (g1, x1, g2, x2, a0, a1, label) in (("g100", 1.0, "g150", 1.5, steady, t1, "before the box"),
-                                            ("g350", 3.5, "g398", 3.984, 4.0, 7.6, "behind the box, before the beach's reflection"),
+                                            ("g350", 3.5, "g398", 3.984, 4.0, 7.6,
+                                             "behind the box, before the beach's reflection"),
                                             ("g350", 3.5, "g398", 3.984, 7.6, tp[-1], "behind the box, beach")):
         a1 = a0 + math.floor((a1 - a0) / T_TARGET + 1e-9) * T_TARGET  # whole periods: no leakage into other bins
         if g1 in eta and g2 in eta and a1 - a0 > 1.5 * T_TARGET:
@@ -226,16 +228,19 @@ def report(fig):
           "scene read at t %+.3f s" % fig["shift"])
     for name, unit in (("surge", "m"), ("heave", "m"), ("roll", "deg")):
         r = fig[name]
-        print("  %s: RMS difference %.4f %s (offset removed %.4f; mean difference %+.4f); shifted: %.4f (offset removed "
+        print("  %s: RMS difference %.4f %s (offset removed %.4f; mean difference %+.4f); shifted: %.4f (offset "
+              "removed "
               "%.4f)" % (name, r["rms"], unit, r["rms_offset_removed"], r["mean_diff"], r["rms_shifted"],
                          r["rms_offset_removed_shifted"]))
-        print("    amplitude %.4f %s against %.4f (%+.1f %%), period %.4f s against %.4f (%+.2f %%) over %d / %d cycles; "
+        print("    amplitude %.4f %s against %.4f (%+.1f %%), period %.4f s against %.4f (%+.2f %%) over %d / %d "
+              "cycles; "
               "drift %+.4f %s/s against %+.4f; range %.4f..%.4f against %.4f..%.4f"
               % (r["amp"], unit, r["amp_data"], 100 * (r["amp"] / r["amp_data"] - 1), r["period"], r["period_data"],
                  100 * (r["period"] / r["period_data"] - 1), r["n"], r["n_data"], r["drift"], unit, r["drift_data"],
                  r["range"][0], r["range"][1], r["range_data"][0], r["range_data"][1]))
     c = 2 * math.pi / T_TARGET / wa.wave_number(2 * math.pi / T_TARGET, DEPTH)
-    print("  encounter period T / (1 - U / c) of a box drifting at the surge drift U (c = %.3f m/s): %.4f s (data %.4f s)"
+    print("  encounter period T / (1 - U / c) of a box drifting at the surge drift U (c = %.3f m/s): %.4f s "
+          "(data %.4f s)"
           % (c, T_TARGET / (1 - fig["surge"]["drift"] / c), T_TARGET / (1 - fig["surge"]["drift_data"] / c)))
     print("  roll peak after heave crest: %.3f s (data %.3f s); with the other roll sign: %.3f s"
           % (fig["lag"], fig["lag_data"], fig["lag_neg"]))
@@ -266,7 +271,8 @@ def main():
     ap.add_argument("--check-wave", type=float)
     a = ap.parse_args()
     if not 0 < a.dx <= 0.05 or any(abs(L / a.dx - round(L / a.dx)) > 1e-6 for L in (1.66, 0.3, 0.1)):
-        print("ren2015.py: --dx: expected a spacing in (0, 0.05] m that divides 1.66, 0.3 and 0.1 m (the box's faces on "
+        print("ren2015.py: --dx: expected a spacing in (0, 0.05] m that divides 1.66, 0.3 and 0.1 m (the box's faces "
+              "on "
               "lines of the fluid's lattice, which starts at the paddle's face x = 0.19 m: 0.02, 0.01, 0.005)",
               file=sys.stderr)
         raise SystemExit(2)
