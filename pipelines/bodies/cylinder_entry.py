@@ -37,9 +37,9 @@ import csv
 import math
 import os
 import re
-import subprocess
 import sys
-import time
+
+from harness_common import interp, read_pairs, run_scene
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -55,32 +55,14 @@ SERIES = (("experiment", "greenhow_lin1983_cylinder_entry_rho%d.csv"), ("BEM", "
 T_END = {500: 1.55, 1000: 2.05}  # beyond the last published point (T)
 
 
-def read_pairs(path):
-    with open(path) as f:
-        rows = [r for r in csv.reader(l for l in f if not l.startswith("#")) if r]
-    return [(float(a), float(b)) for a, b in rows[1:]]
-
-
 def run_case(rho, dx, threads, outdir, sets, timeout):
     gap = 3 * dx  # out of the kernel's reach (2 h = 2.83 dx at h/dx 1.414; 3.4 dx at 1.7) of the water
     v_start = math.sqrt(V * V - 2 * G * gap)
     t_end = T_END[rho] / TS + gap / V + 0.002
-    cmd = [os.environ.get("VARSPH_BIN", os.path.join(ROOT, "build", "release", "bin", "varsph")), "run", SCENE,
-           "-o", outdir, "--overwrite", "--quiet", "--threads", str(threads),
-           "--set", "particles.spacing=%r" % dx, "--set", "time.end=%.6f" % t_end,
-           "--set", "bodies.2.density=%r" % float(rho),
-           "--set", "bodies.2.center=[%r, %r]" % (X_C, SURFACE + R + gap),
-           "--set", "bodies.2.velocity=[0.0, %r]" % -v_start]
-    for s in sets:
-        cmd += ["--set", s]
-    l0 = os.getloadavg()[0]
-    w0 = time.monotonic()
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    wall = time.monotonic() - w0
-    if p.returncode != 0:
-        print(p.stdout + p.stderr, file=sys.stderr)
-        raise SystemExit(3)
-    return wall, l0, os.getloadavg()[0]
+    return run_scene(SCENE, outdir, threads,
+                     ["particles.spacing=%r" % dx, "time.end=%.6f" % t_end, "bodies.2.density=%r" % float(rho),
+                      "bodies.2.center=[%r, %r]" % (X_C, SURFACE + R + gap),
+                      "bodies.2.velocity=[0.0, %r]" % -v_start] + list(sets), timeout)
 
 
 def trajectory(outdir):
@@ -93,16 +75,6 @@ def trajectory(outdir):
             w = (y1 - ye) / (y1 - y2)
             return tr, t1 + w * (t2 - t1), ye, -(v1 + w * (v2 - v1))
     raise ValueError("%s: the disc never reached the water" % outdir)
-
-
-def interp(xs, ys, x):
-    if x < xs[0] or x > xs[-1]:
-        return None
-    k = 0
-    while xs[k + 1] < x:
-        k += 1
-    w = (x - xs[k]) / (xs[k + 1] - xs[k])
-    return ys[k] + w * (ys[k + 1] - ys[k])
 
 
 def momentum_theory(rho_s, h, factor):

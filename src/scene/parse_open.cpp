@@ -114,6 +114,13 @@ std::vector<std::vector<double>> corners(const OpenZoneSpec& z, int d) {
         continue;
       }
       double v = z.center[std::size_t(a)] - ((m & 1) ? z.depth * z.direction[std::size_t(a)] : 0.0);
+      if (!z.plane_lo.empty()) {  // a polygon or disc: its in-plane bounding rectangle from plane_lo
+        for (int k = 0; k + 1 < d; ++k)
+          v += (z.plane_lo[std::size_t(k)] + (((m >> (k + 1)) & 1) ? z.width[std::size_t(k)] : 0.0)) *
+               z.tangents[std::size_t(k)][std::size_t(a)];
+        p[std::size_t(a)] = v;
+        continue;
+      }
       for (int k = 0; k + 1 < d; ++k)
         v += (((m >> (k + 1)) & 1) ? 0.5 : -0.5) * z.width[std::size_t(k)] * z.tangents[std::size_t(k)][std::size_t(a)];
       p[std::size_t(a)] = v;
@@ -121,6 +128,70 @@ std::vector<std::vector<double>> corners(const OpenZoneSpec& z, int d) {
     out.push_back(std::move(p));
   }
   return out;
+}
+
+// A 3D oblique zone's polygon interface (`polygon`): at least 3 in-plane vertices [a, b] [m] along the tangents
+// about `center`, either orientation, a simple polygon (no two edges cross or touch but neighbours at their
+// shared vertex) of non-zero area. Sets the bounding rectangle (plane_lo, width) the lattice covers.
+void parse_polygon(JsonReader& r, const std::string& base, const Scene& s, OpenZoneSpec& z) {
+  const std::string key = at(base, "polygon");
+  const json* raw = r.raw(key);
+  if (!raw->is_array() || raw->size() < 3)
+    r.fail_got(key, "a polygon of at least 3 vertices [[a, b], ...] in metres along tangent and direction x tangent about center",
+               *raw);
+  const std::size_t n = raw->size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto v = r.vector(at(key, std::to_string(k)), 2, std::nullopt, "an in-plane vertex [a, b] [m]");
+    z.polygon.push_back({v[0], v[1]});
+  }
+  r.subtree(key, *raw);
+  double lo[2] = {kInf, kInf}, hi[2] = {-kInf, -kInf}, area2 = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto& p = z.polygon[k];
+    const auto& q = z.polygon[(k + 1) % n];
+    area2 += p[0] * q[1] - q[0] * p[1];  // the shoelace formula: twice the signed area
+    for (int c = 0; c < 2; ++c) lo[c] = std::min(lo[c], p[std::size_t(c)]), hi[c] = std::max(hi[c], p[std::size_t(c)]);
+  }
+  const double size = std::max(hi[0] - lo[0], hi[1] - lo[1]);
+  if (!(std::abs(area2) > 1e-9 * size * size))
+    r.fail_got(key, "a polygon of non-zero area (its vertices lie on a line or on a point)", *raw);
+  // simple: no two edges meet except neighbours at their shared vertex (orientation tests; collinear overlaps
+  // and touching count as meeting)
+  const auto orient = [](const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  };
+  const double eps = 1e-12 * size * size;
+  const auto on_segment = [&](const std::array<double, 2>& a, const std::array<double, 2>& b, const std::array<double, 2>& c) {
+    return std::abs(orient(a, b, c)) <= eps && std::min(a[0], b[0]) - 1e-12 * size <= c[0] && c[0] <= std::max(a[0], b[0]) + 1e-12 * size &&
+           std::min(a[1], b[1]) - 1e-12 * size <= c[1] && c[1] <= std::max(a[1], b[1]) + 1e-12 * size;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto &a = z.polygon[i], &b = z.polygon[(i + 1) % n];
+    if (a == b) r.fail_got(key, "distinct consecutive vertices (vertex " + std::to_string(i) + " repeats)", *raw);
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const bool adjacent = j == i + 1 || (i == 0 && j == n - 1);
+      const auto &c = z.polygon[j], &e = z.polygon[(j + 1) % n];
+      bool meet;
+      if (adjacent) {  // neighbours share one vertex: they meet elsewhere only if they fold back on each other
+        const auto& shared = j == i + 1 ? b : a;
+        const auto& other_i = j == i + 1 ? a : b;
+        const auto& other_j = j == i + 1 ? e : c;
+        meet = on_segment(shared, other_j, other_i) || on_segment(shared, other_i, other_j);
+      } else {
+        const double o1 = orient(a, b, c), o2 = orient(a, b, e), o3 = orient(c, e, a), o4 = orient(c, e, b);
+        meet = ((o1 > eps && o2 < -eps) || (o1 < -eps && o2 > eps)) && ((o3 > eps && o4 < -eps) || (o3 < -eps && o4 > eps));
+        meet = meet || on_segment(a, b, c) || on_segment(a, b, e) || on_segment(c, e, a) || on_segment(c, e, b);
+      }
+      if (meet)
+        r.fail_got(key, "a simple polygon (edges " + std::to_string(i) + " and " + std::to_string(j) +
+                            " cross or touch: it intersects itself)", *raw);
+    }
+  }
+  if (!(hi[0] - lo[0] >= s.spacing * (1 - 1e-9) || hi[1] - lo[1] >= s.spacing * (1 - 1e-9)))
+    r.fail_got(key, "a polygon at least a spacing across", *raw);
+  z.interface = "polygon";
+  z.plane_lo = {lo[0], lo[1]};
+  z.width = {hi[0] - lo[0], hi[1] - lo[1]};
 }
 
 // Keys of an oblique plane zone (docs/scene.md "Open boundaries"): center, direction (any non-zero vector,
@@ -154,17 +225,34 @@ void parse_oblique(JsonReader& r, const std::string& base, const Scene& s, OpenZ
   z.depth = r.positive(at(base, "depth"), std::nullopt, "extent of the zone against its direction [m]");
   multiple(at(base, "depth"), z.depth, "a depth");
   if (d == 2) {
+    for (const char* k : {"polygon", "radius"})
+      if (r.raw(at(base, k)))
+        r.fail(at(base, k), "no `" + std::string(k) + "` in 2D (the 2D interface is a segment: give its width)");
     z.width = {r.positive(at(base, "width"), std::nullopt, "width of the interface along its tangent [m]")};
     multiple(at(base, "width"), z.width[0], "a width");
     if (r.raw(at(base, "tangent")))
       r.fail(at(base, "tangent"), "no tangent in 2D (the interface's tangent is the direction turned by +90 degrees)");
     z.tangents = {{-z.direction[1], z.direction[0]}};
   } else {
-    z.width = r.vector(at(base, "width"), 2, std::nullopt, "widths of the interface rectangle along tangent and direction x tangent [m]");
-    for (int k = 0; k < 2; ++k) {
-      if (!(z.width[std::size_t(k)] > 0))
-        r.fail_got(at(base, "width"), "widths > 0 [m]", json(z.width));
-      multiple(at(base, "width"), z.width[std::size_t(k)], "widths each");
+    const bool has_poly = r.raw(at(base, "polygon")) != nullptr, has_disc = r.raw(at(base, "radius")) != nullptr;
+    if (int(has_poly) + int(has_disc) + int(r.raw(at(base, "width")) != nullptr) > 1)
+      r.fail(at(base, has_poly ? "polygon" : "radius"), "one interface shape: width (a rectangle), polygon or radius (a disc)");
+    if (has_poly) {
+      parse_polygon(r, base, s, z);
+    } else if (has_disc) {
+      z.interface = "disc";
+      z.radius = r.positive(at(base, "radius"), std::nullopt, "radius of the disc interface about center [m]");
+      if (!(z.radius >= dx))
+        r.fail_got(at(base, "radius"), "a radius of at least particles.spacing (" + std::to_string(dx) + " m)", json(z.radius));
+      z.width = {2 * z.radius, 2 * z.radius};
+      z.plane_lo = {-z.radius, -z.radius};
+    } else {
+      z.width = r.vector(at(base, "width"), 2, std::nullopt, "widths of the interface rectangle along tangent and direction x tangent [m]");
+      for (int k = 0; k < 2; ++k) {
+        if (!(z.width[std::size_t(k)] > 0))
+          r.fail_got(at(base, "width"), "widths > 0 [m]", json(z.width));
+        multiple(at(base, "width"), z.width[std::size_t(k)], "widths each");
+      }
     }
     std::vector<double> t = r.vector(at(base, "tangent"), 3, std::nullopt,
                                      "the interface rectangle's first side, normal to direction (normalised)");
@@ -183,18 +271,54 @@ void parse_oblique(JsonReader& r, const std::string& base, const Scene& s, OpenZ
     if (s.periodic[std::size_t(a)] && std::abs(z.direction[std::size_t(a)]) > 1e-12)
       r.fail_got(at(base, "direction"), "a normal with no component on a periodic axis (domain.periodic is true on axis " +
                                             std::to_string(a) + ")", json(z.direction));
-  // the zone inside the domain; its bounding box in min/max
-  z.min.assign(std::size_t(d), kInf);
-  z.max.assign(std::size_t(d), -kInf);
-  for (const auto& p : corners(z, d))
-    for (int a = 0; a < d; ++a) {
-      z.min[std::size_t(a)] = std::min(z.min[std::size_t(a)], p[std::size_t(a)]);
-      z.max[std::size_t(a)] = std::max(z.max[std::size_t(a)], p[std::size_t(a)]);
-      if (p[std::size_t(a)] < s.domain_min[std::size_t(a)] - 1e-12 || p[std::size_t(a)] > s.domain_max[std::size_t(a)] + 1e-12)
-        r.fail_got(at(base, "center"), "a zone inside domain.min/max (a corner of the zone lies at " +
-                                           std::to_string(p[std::size_t(a)]) + " on axis " + std::to_string(a) + ")",
-                   json(z.center));
+  // a polygon's vertices and a disc's rim inside the domain, at the interface and at the zone's depth
+  if (z.interface != "rectangle") {
+    std::vector<std::vector<double>> pts;
+    const auto& t1 = z.tangents[0];
+    const auto& t2 = z.tangents[1];
+    if (z.interface == "polygon") {
+      for (const auto& q : z.polygon) {
+        std::vector<double> p(3);
+        for (int a = 0; a < 3; ++a) p[std::size_t(a)] = z.center[std::size_t(a)] + q[0] * t1[std::size_t(a)] + q[1] * t2[std::size_t(a)];
+        pts.push_back(p);
+      }
+    } else {  // the disc's extent on axis a: R sqrt(1 - n_a^2) about the centre
+      for (int a = 0; a < 3; ++a)
+        for (const double sg : {-1.0, 1.0}) {
+          std::vector<double> p = z.center;
+          p[std::size_t(a)] += sg * z.radius * std::sqrt(std::max(0.0, 1 - z.direction[std::size_t(a)] * z.direction[std::size_t(a)]));
+          pts.push_back(p);
+        }
     }
+    const std::string key = at(base, z.interface == "polygon" ? "polygon" : "radius");
+    z.min.assign(std::size_t(d), kInf);
+    z.max.assign(std::size_t(d), -kInf);
+    for (const double back : {0.0, z.depth})
+      for (std::size_t k = 0; k < pts.size(); ++k)
+        for (int a = 0; a < d; ++a) {
+          const double v = pts[k][std::size_t(a)] - back * z.direction[std::size_t(a)];
+          z.min[std::size_t(a)] = std::min(z.min[std::size_t(a)], v);
+          z.max[std::size_t(a)] = std::max(z.max[std::size_t(a)], v);
+          if (v < s.domain_min[std::size_t(a)] - 1e-12 || v > s.domain_max[std::size_t(a)] + 1e-12) {
+            std::ostringstream m;
+            m << "a zone inside domain.min/max (" << (z.interface == "polygon" ? "vertex " + std::to_string(k) : std::string("the disc's rim"))
+              << (back > 0 ? " swept to the zone's depth" : "") << " lies at " << v << " on axis " << a << ")";
+            r.fail_got(key, m.str(), z.interface == "polygon" ? *r.raw(key) : json(z.radius));
+          }
+        }
+  } else {  // the zone inside the domain; its bounding box in min/max
+    z.min.assign(std::size_t(d), kInf);
+    z.max.assign(std::size_t(d), -kInf);
+    for (const auto& p : corners(z, d))
+      for (int a = 0; a < d; ++a) {
+        z.min[std::size_t(a)] = std::min(z.min[std::size_t(a)], p[std::size_t(a)]);
+        z.max[std::size_t(a)] = std::max(z.max[std::size_t(a)], p[std::size_t(a)]);
+        if (p[std::size_t(a)] < s.domain_min[std::size_t(a)] - 1e-12 || p[std::size_t(a)] > s.domain_max[std::size_t(a)] + 1e-12)
+          r.fail_got(at(base, "center"), "a zone inside domain.min/max (a corner of the zone lies at " +
+                                             std::to_string(p[std::size_t(a)]) + " on axis " + std::to_string(a) + ")",
+                     json(z.center));
+      }
+  }
   // the interface must have domain beyond it: a spacing past the face's centre along the direction
   for (int a = 0; a < d; ++a) {
     const double q = z.center[std::size_t(a)] + dx * z.direction[std::size_t(a)];
@@ -207,7 +331,7 @@ void parse_oblique(JsonReader& r, const std::string& base, const Scene& s, OpenZ
 OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) {
   const int d = s.dimension;
   r.expect_keys(base, {"name", "kind", "min", "max", "direction", "velocity", "pressure", "water_level", "center", "depth",
-                       "width", "tangent"});
+                       "width", "tangent", "polygon", "radius"});
   r.expect_keys(at(base, "velocity"), {"profile", "value", "peak", "file", "ramp", "roughness"});
   OpenZoneSpec z;
   z.name = r.text(at(base, "name"), std::nullopt);
@@ -217,7 +341,7 @@ OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) 
   if (r.raw(at(base, "center"))) {
     parse_oblique(r, base, s, z);
   } else {
-    for (const char* k : {"depth", "width", "tangent"})
+    for (const char* k : {"depth", "width", "tangent", "polygon", "radius"})
       if (r.raw(at(base, k)))
         r.fail(at(base, k), "no `" + std::string(k) + "` on a box zone given by min/max (an oblique plane zone is given by "
                             "center, direction, depth and width instead)");
@@ -282,9 +406,17 @@ OpenZoneSpec parse_zone(JsonReader& r, const std::string& base, const Scene& s) 
       if (!(z.speed > 0))
         r.fail_got(at(base, "velocity.peak"), "a peak speed > 0 along the zone's direction (a speed <= 0 points out of the domain)",
                    json(z.speed));
+    } else if (z.profile == "parabolic" && z.interface == "disc") {
+      z.speed = r.number(at(base, "velocity.peak"), std::nullopt, -kInf, kInf,
+                         "centre-line speed of the pipe profile u = peak (1 - r^2 / R^2) on the disc [m/s]");
+      if (!(z.speed > 0))
+        r.fail_got(at(base, "velocity.peak"), "a peak speed > 0 along the zone's direction (a speed <= 0 points out of the domain)",
+                   json(z.speed));
     } else if (z.profile == "parabolic") {
-      if (d != 2) r.fail_got(at(base, "velocity.profile"), "\"uniform\" or \"file\" in 3D (\"parabolic\" is the 2D plane profile)",
-                             json(z.profile));
+      if (d != 2)
+        r.fail_got(at(base, "velocity.profile"), "\"uniform\" or \"file\" in 3D on a " + z.interface +
+                                                  " (\"parabolic\" is the 2D plane profile, or in 3D the pipe profile of a disc "
+                                                  "zone given by radius)", json(z.profile));
       z.speed = r.number(at(base, "velocity.peak"), std::nullopt, -kInf, kInf,
                          "peak speed of u = 4 u_peak s (W - s) / W^2 across the zone [m/s]");
       if (!(z.speed > 0))

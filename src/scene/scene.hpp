@@ -1,6 +1,7 @@
 #pragma once
 // A scene parsed and validated into plain structs (SI units). Every optional key has its default here
 // and in docs/scene.md; parse_scene() fills `resolved` with every parameter actually used.
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -100,8 +101,17 @@ struct OpenZoneSpec {
   double depth = 0;                          // extent against `direction` [m], a multiple of the spacing
   std::vector<double> width;                 // full widths along the tangents [m] (D - 1 of them)
   std::vector<std::vector<double>> tangents;  // D - 1 unit vectors in the interface plane
+  // 3D only: the interface a polygon (`polygon`, vertices [a, b] in metres along tangents[0] and tangents[1]
+  // about `center`) or a disc (`radius` about `center`) instead of the `width` rectangle. `width` then holds the
+  // in-plane bounding rectangle's sides and `plane_lo` its lower corner (a, b): the zone's lattice is that
+  // rectangle's, the inside test the polygon's or the disc's.
+  std::string interface = "rectangle";            // "rectangle" | "polygon" | "disc"
+  std::vector<std::array<double, 2>> polygon;     // >= 3 vertices, simple (not self-intersecting), area > 0
+  double radius = 0;                              // the disc's radius [m]
+  std::vector<double> plane_lo;                   // polygon/disc: the bounding rectangle's lower corner (a, b)
   // inlet velocity along `direction`: "uniform" (value), "parabolic" (2D, across the zone: peak; with a
-  // water level the open-channel half parabola, peak at the surface), "log_law" (water level only: depth-mean
+  // water level the open-channel half parabola, peak at the surface; on a 3D disc the Hagen-Poiseuille
+  // profile peak (1 - r^2 / R^2) about `center`), "log_law" (water level only: depth-mean
   // value, roughness z0), "file"
   std::string profile = "uniform";
   double speed = 0;                 // uniform: speed; parabolic: peak speed; log_law: depth-mean speed [m/s]

@@ -111,13 +111,48 @@ OpenBoundaries<D>::OpenBoundaries(const scene::Scene& s, ParticleStore& store) :
         for (int a = 0; a < D; ++a) z.t[std::size_t(k)][a] = Real(spec.tangents[std::size_t(k)][std::size_t(a)]);
         z.hw[std::size_t(k)] = Real(0.5 * spec.width[std::size_t(k)]);
       }
+      if (spec.interface != "rectangle") {  // a polygon or a disc: the bounding rectangle's lattice, from its lower corner
+        z.shape = spec.interface == "polygon" ? 1 : 2;
+        z.poly = spec.polygon;
+        z.radius = spec.radius;
+        for (int k = 0; k + 1 < D; ++k) {
+          z.hw[std::size_t(k)] = Real(-spec.plane_lo[std::size_t(k)]);
+          z.ext[std::size_t(k)] = Real(spec.width[std::size_t(k)]);
+        }
+      }
     }
     zones_.push_back(z);
   }
 }
 
 template <int D>
+bool OpenBoundaries<D>::in_plane(const Zone& z, const Vec<D>& x, Real tol, bool strict) const {
+  const Vec<D> r = x - z.c;
+  const double a = double(z.t[0].dot(r)), b = double(z.t[std::size_t(D - 2)].dot(r)), e = double(tol);
+  if (z.shape == 2) {  // the disc
+    const double q = a * a + b * b, R = z.radius - e;
+    return R > 0 && (strict ? q < R * R : q <= R * R);
+  }
+  // the polygon: the crossing number of a ray from (a, b) along +a (even-odd rule; either orientation)
+  const std::size_t n = z.poly.size();
+  bool in = false;
+  double dmin = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const auto& p = z.poly[i];
+    const auto& q = z.poly[j];
+    if ((p[1] > b) != (q[1] > b) && a < (q[0] - p[0]) * (b - p[1]) / (q[1] - p[1]) + p[0]) in = !in;
+    if (strict && e > 0) {  // the distance to the edge pq
+      const double ex = q[0] - p[0], ey = q[1] - p[1];
+      const double s = std::clamp(((a - p[0]) * ex + (b - p[1]) * ey) / (ex * ex + ey * ey), 0.0, 1.0);
+      dmin = std::min(dmin, std::hypot(a - p[0] - s * ex, b - p[1] - s * ey));
+    }
+  }
+  return in && (!(strict && e > 0) || dmin > e);
+}
+
+template <int D>
 bool OpenBoundaries<D>::beside(const Zone& z, const Vec<D>& x) const {
+  if (z.shape != 0) return in_plane(z, x, Real(0), false);
   if (z.oblique) {
     const Vec<D> r = x - z.c;
     for (int k = 0; k + 1 < D; ++k)
@@ -135,6 +170,7 @@ bool OpenBoundaries<D>::inside(const Zone& z, const Vec<D>& x, Real tol) const {
     const Vec<D> r = x - z.c;
     const Real d = z.n.dot(r);
     if (!(d < -tol && d > -z.depth + tol)) return false;
+    if (z.shape != 0) return in_plane(z, x, tol, true);
     for (int k = 0; k + 1 < D; ++k)
       if (!(std::abs(z.t[std::size_t(k)].dot(r)) < z.hw[std::size_t(k)] - tol)) return false;
     return true;
@@ -149,7 +185,9 @@ std::array<long, D> OpenBoundaries<D>::lattice_cells(const Zone& z, double dx) c
   std::array<long, D> cells{};
   if (z.oblique) {
     cells[0] = std::lround(double(z.depth) / dx);
-    for (int k = 0; k + 1 < D; ++k) cells[std::size_t(k + 1)] = std::lround(2 * double(z.hw[std::size_t(k)]) / dx);
+    for (int k = 0; k + 1 < D; ++k)
+      cells[std::size_t(k + 1)] = z.shape != 0 ? long(std::ceil(double(z.ext[std::size_t(k)]) / dx - 1e-9))
+                                               : std::lround(2 * double(z.hw[std::size_t(k)]) / dx);
   } else {
     for (int a = 0; a < D; ++a) cells[std::size_t(a)] = std::lround(double(z.hi[a] - z.lo[a]) / dx);
   }
@@ -189,6 +227,10 @@ Vec<D> OpenBoundaries<D>::inflow(const Zone& z, const Vec<D>& x, double t) const
       const double z0 = spec.roughness;
       speed *= sb > z0 ? std::log(sb / z0) / (std::log(H / z0) - 1) : 0.0;
     }
+  } else if (spec.profile == "parabolic" && z.shape == 2) {  // a pipe: Hagen-Poiseuille u = peak (1 - r^2 / R^2) about c
+    const Vec<D> r = x - z.c;
+    const double a = double(z.t[0].dot(r)), b = double(z.t[std::size_t(D - 2)].dot(r));
+    speed *= std::max(0.0, 1 - (a * a + b * b) / (z.radius * z.radius));
   } else if (spec.profile == "parabolic" && z.oblique) {  // the same across an oblique zone's width (2D), s along its tangent
     const double W = 2 * double(z.hw[0]);
     const double sc = std::clamp(double(z.t[0].dot(x - z.c)) + 0.5 * W, 0.0, W);
@@ -257,7 +299,7 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
       if (f.kind[i] == 0) continue;
       if (inside(z, f.x[i], tol)) {
         std::ostringstream m;
-        m << key(k, z.oblique ? "center" : "min") << "the zone overlaps a wall: boundary particle id " << f.id[i] << " at (";
+        m << key(k, z.shape == 1 ? "polygon" : z.shape == 2 ? "radius" : z.oblique ? "center" : "min") << "the zone overlaps a wall: boundary particle id " << f.id[i] << " at (";
         for (int a = 0; a < D; ++a) m << (a ? ", " : "") << double(f.x[i][a]);
         m << ") of bodies." << f.body[i] << " lies inside it; place the zone in the fluid, between the walls";
         throw InputError(m.str());
@@ -316,6 +358,7 @@ void OpenBoundaries<D>::setup(Simulation<D>& sim, Real support) {
         r /= cells[std::size_t(a)];
       }
       const Vec<D> p = lattice_point(z, idx, dx);
+      if (z.shape != 0 && !in_plane(z, p, Real(0), true)) continue;  // a polygon or disc: its nodes inside only
       if (!wet(z, p, sim.time())) continue;  // a free-surface inlet: only below its water level
       if (!z.inlet && !fed[std::size_t(across_cell(p))]) continue;
       pts.push_back(p);

@@ -11,7 +11,9 @@
 //    Or an oblique plane zone: an interface rectangle of any orientation (centre, unit normal `direction`,
 //    widths along its tangents) swept `depth` against the normal, with its own lattice on planes parallel
 //    to the interface; the same scheme along the normal (distance n.(x - c), ghost node x - 2 s n, copies
-//    one depth upstream along -n).
+//    one depth upstream along -n). In 3D its interface may be a polygon or a disc instead of the rectangle:
+//    the lattice of the bounding rectangle, only the nodes inside the polygon / disc (a circular pipe inlet,
+//    with the Hagen-Poiseuille profile u = peak (1 - r^2 / R^2)).
 //  - Buffer particles are fluid particles (kind 0) tagged with their zone in the registered field
 //    `open_zone` (-1: not a buffer). They take part in every neighbour sum as fluid, but their state is
 //    imposed: each moves with the velocity it had at the start of the step (x = x0 + dt v0, Tafuni
@@ -96,7 +98,18 @@ class OpenBoundaries {
     Vec<D> n = Vec<D>::Zero(), c = Vec<D>::Zero();
     std::array<Vec<D>, D - 1> t{};
     std::array<Real, D - 1> hw{};
+    // 3D: the interface a polygon (shape 1: vertices (a, b) along t_0, t_1 about c) or a disc (shape 2: radius R
+    // about c) instead of the rectangle (shape 0). Their lattice is that of the in-plane bounding rectangle, of
+    // sides ext_k from its lower corner -hw_k (so lattice_point is the rectangle's formula), filtered by the
+    // polygon's or the disc's inside test (in_plane).
+    int shape = 0;
+    std::vector<std::array<double, 2>> poly;
+    double radius = 0;
+    std::array<Real, D - 1> ext{};
   };
+  // a polygon or disc zone: the in-plane point of x inside the interface (strict: by more than tol from its
+  // edge; else on or inside it)
+  bool in_plane(const Zone& z, const Vec<D>& x, Real tol, bool strict) const;
   // an oblique zone's lattice point of index (i along -n, j_k along t_k)
   Vec<D> lattice_point(const Zone& z, const std::array<long, D>& idx, double dx) const;
   // the zone's lattice counts: axis-aligned, per axis; oblique, along -n first, then along each tangent
