@@ -178,7 +178,8 @@ def evaluate(outdir, roll_sign, steady, shift_range):
                                             ("g350", 3.5, "g398", 3.984, 4.0, 7.6,
                                              "behind the box, before the beach's reflection"),
                                             ("g350", 3.5, "g398", 3.984, 7.6, tp[-1], "behind the box, beach")):
-        a1 = a0 + math.floor((a1 - a0) / T_TARGET + 1e-9) * T_TARGET  # whole periods: no leakage into other bins
+        a1 = min(a1, tp[-1])  # a run that stopped early (or is still running)
+        a1 = a0 + math.floor(max(a1 - a0, 0.0) / T_TARGET + 1e-9) * T_TARGET  # whole periods: no leakage
         if g1 in eta and g2 in eta and a1 - a0 > 1.5 * T_TARGET:
             m = (tp >= a0) & (tp <= a1)
             try:
