@@ -41,9 +41,7 @@ import argparse
 import csv
 import math
 import os
-import subprocess
 import sys
-import time
 
 import numpy as np
 
@@ -51,6 +49,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "paraview"))
 import wave_analysis as wa  # noqa: E402  (zero up-crossing, Goda & Suzuki)
+import harness_common  # noqa: E402  (running a scene)
 
 SCENE = os.path.join(HERE, "ren2015_box_in_waves_2d.json")
 DATA = os.path.join(ROOT, "tests", "data", "ren2015_floating_box_regular_waves.csv")
@@ -73,17 +72,7 @@ def read_csv(path):
 
 
 def run_scene(outdir, dx, threads, sets, timeout):
-    cmd = [os.environ.get("VARSPH_BIN", os.path.join(ROOT, "build", "release", "bin", "varsph")), "run", SCENE,
-           "-o", outdir, "--overwrite", "--quiet", "--threads", str(threads), "--set", "particles.spacing=%r" % dx]
-    for s in sets:
-        cmd += ["--set", s]
-    l0, w0 = os.getloadavg()[0], time.monotonic()
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    wall = time.monotonic() - w0
-    if p.returncode != 0:
-        print(p.stdout + p.stderr, file=sys.stderr)
-        raise SystemExit(3)
-    return wall, l0, os.getloadavg()[0]
+    return harness_common.run_scene(SCENE, outdir, threads, ["particles.spacing=%r" % dx] + list(sets), timeout)
 
 
 def cycles(t, s, t0, t1):

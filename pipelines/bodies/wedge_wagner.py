@@ -39,9 +39,9 @@ import math
 import os
 import re
 import struct
-import subprocess
 import sys
-import time
+
+from harness_common import run_scene
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -199,20 +199,11 @@ def apex_poly(dx):
 def run_case(dx, threads, outdir, sets, timeout):
     t0 = 3 * dx / V
     t_end = t0 + WINDOW[1] * B * 2 * math.tan(BETA) / (math.pi * V) + 0.0002
-    cmd = [os.environ.get("VARSPH_BIN", os.path.join(ROOT, "build", "release", "bin", "varsph")), "run", SCENE,
-           "-o", outdir, "--overwrite", "--quiet", "--threads", str(threads),
-           "--set", "particles.spacing=%r" % dx, "--set", "time.end=%.6f" % t_end,
-           "--set", "bodies.2.transform={\"translate\": [%r, %r, 0.0]}" % (X_APEX, apex_poly(dx))]
-    for s in sets:
-        cmd += ["--set", s]
-    l0 = os.getloadavg()[0]
-    w0 = time.monotonic()
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    wall = time.monotonic() - w0
-    if p.returncode != 0:
-        print(p.stdout + p.stderr, file=sys.stderr)
-        raise SystemExit(3)
-    return t0, wall, l0, os.getloadavg()[0]
+    wall, l0, l1 = run_scene(SCENE, outdir, threads,
+                             ["particles.spacing=%r" % dx, "time.end=%.6f" % t_end,
+                              "bodies.2.transform={\"translate\": [%r, %r, 0.0]}" % (X_APEX, apex_poly(dx))]
+                             + list(sets), timeout)
+    return t0, wall, l0, l1
 
 
 def evaluate(outdir, dx, t0, p_root):
