@@ -92,13 +92,26 @@ struct Rules {
     if (s.c0 > L::c0_warning)
       warn("fluid.c0", "c0 = " + num(s.c0) + " m/s is above the sound speed of any liquid (water: 1480 m/s); "
                            "weakly-compressible SPH uses about 10 x the largest flow speed, and dt shrinks with 1/c0");
-    double H, u0;
-    fluid_scales(H, u0);
-    const double u = std::max(std::sqrt(2 * norm(s.gravity) * H), u0);
+    double H_fluid, u0;
+    fluid_scales(H_fluid, u0);
+    const double g = norm(s.gravity);
+    // the flow speed: the scene's named reference speed (a still tank, a slow body), else the dam-break speed
+    // sqrt(2 g H) of the reference height or the fluid bodies' height; never below the initial velocities
+    const double H = s.reference_height >= 0 ? s.reference_height : H_fluid;
+    const bool named_u = s.reference_speed >= 0;
+    const double u = std::max(named_u ? s.reference_speed : std::sqrt(2 * g * H), u0);
     if (u > 0 && u > L::mach_warning * s.c0 * (1 + 1e-9))  // the auto rule's 10x sits exactly on the line
-      warn("fluid.c0", "c0 = " + num(s.c0) + " m/s is less than 10 x the expected flow speed " + num(u) +
-                           " m/s (max of sqrt(2 g H) and the initial velocities): Mach " + num(u / s.c0) +
+      warn("fluid.c0", "c0 = " + num(s.c0) + " m/s is less than 10 x the expected flow speed " + num(u) + " m/s (" +
+                           (named_u ? "max of fluid.reference_speed" : "max of sqrt(2 g H)") +
+                           " and the initial velocities): Mach " + num(u / s.c0) +
                            ", density errors above 1 % (Monaghan 1994 asks for Mach <= 0.1)");
+    // with a named speed the Mach rule no longer sees the column's weight: the hydrostatic compression
+    // g H / c0^2 of the Tait equation's linear part (seed paper eq. (11)) is checked on its own
+    const double squeeze = g * H_fluid / (s.c0 * s.c0);
+    if (named_u && squeeze > L::hydrostatic_warning)
+      warn("fluid.c0", "c0 = " + num(s.c0) + " m/s compresses the fluid's " + num(H_fluid) +
+                           " m column by g H / c0^2 = " + num(100 * squeeze) + " % at its bottom (more than " +
+                           num(100 * L::hydrostatic_warning) + " %)");
   }
 
   void domain() {
