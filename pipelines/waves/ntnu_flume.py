@@ -156,7 +156,7 @@ def build_scene(a, cols, rundir):
     end = 0.5 + RAMP_PERIODS * T + x_last / group_speed(k_full, DEPTH, T) + (a.waves + 2) * T
     k_t = wa.wave_number(2 * math.pi / T, depth)
     scene = make_flume.flume("ntnu_flume_%s" % a.tag, "flap", depth, H, k_t * depth, a.per_height, end / T,
-                             h_over_dx=a.h_over_dx, zone_at=x_zone * k_t / (2 * math.pi), gauges=())
+                             h_over_dx=a.h_over_dx, zone_at=x_zone * k_t / (2 * math.pi), gauges=(), digits=12)
     dx = scene["particles"]["spacing"]
     m = scene["bodies"][3]["motion"]
     for key in ("height", "period", "ramp"):

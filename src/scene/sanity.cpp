@@ -166,6 +166,28 @@ struct Rules {
     if (frames > L::frames_warning)
       warn("output.every", "output.every = " + num(s.output_every) + " s writes " + num(frames) + " frames");
   }
+
+  // A box holds floor(extent / dx) particles across (sim/build_particles.cpp cells_in): an extent a hair under a
+  // whole number of spacings (a length written with few digits) loses a whole layer and leaves a gap of nearly
+  // one spacing at its max side, a hole in a wall of `layers` particles that fluid can fall through.
+  void box_extents() {
+    using L = SanityLimits;
+    const double dx = s.spacing;
+    if (!(dx > 0)) return;
+    for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+      const auto& b = s.bodies[i];
+      if ((b.shape != "box" && b.shape != "tank") || b.min.size() != b.max.size()) continue;
+      for (std::size_t a = 0; a < b.min.size(); ++a) {
+        const double q = (b.max[a] - b.min[a]) / dx;
+        const double n = std::floor(q + 1e-6);  // the sampler's count
+        if (n >= 1 && q - n > L::box_extent_shortfall)
+          warn("bodies." + std::to_string(i) + ".max", "the " + b.shape + " is " + num(q) + " spacings long on axis " +
+                   std::to_string(a) + ": it holds " + num(n) + " particles across and leaves a gap of " + num(q - n) +
+                   " spacings at its max side; " + num(n + 1) + " spacings (min = " + num(b.max[a] - (n + 1) * dx) +
+                   " or max = " + num(b.min[a] + (n + 1) * dx) + ") was likely meant: write lengths with more digits");
+      }
+    }
+  }
 };
 
 }  // namespace
@@ -177,6 +199,7 @@ std::vector<std::string> check_sanity(const Scene& s) {
   r.sound_speed();
   r.domain();
   r.time_step();
+  r.box_extents();
   return std::move(r.warnings);
 }
 

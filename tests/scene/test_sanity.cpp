@@ -106,6 +106,19 @@ TEST(Sanity, NamedReferenceScalesInformTheMachWarningOfAGivenC0) {
   EXPECT_NE(error_of({"fluid.c0=5", "fluid.reference_speed=-1"}).find("fluid.reference_speed"), std::string::npos);
 }
 
+// A wall 4 spacings thick written with 6 decimals of a spacing that is not round (0.054603 m at dx = 0.0136508 m)
+// is 3.99997 spacings: the sampler fits 3 layers and leaves a hole of one spacing (found in a generated flume whose
+// fluid drained through its bed). The check names the body and the length that was meant.
+TEST(Sanity, ABoxAHairShortOfWholeSpacingsIsNamed) {
+  const auto w = warnings_of({"particles.spacing=0.013650843396894256", "bodies.1.shape=\"box\"",
+                              "bodies.1.min=[0,-0.054603]", "bodies.1.max=[0.5,0]"});
+  EXPECT_TRUE(has(w, "bodies.1.max: the box is 3.99997 spacings long on axis 1: it holds 3 particles across")) << w.size();
+  EXPECT_TRUE(has(w, "4 spacings (min = -0.0546034 or max = 3.7"));
+  // the same wall written with enough digits: no warning
+  EXPECT_TRUE(warnings_of({"particles.spacing=0.013650843396894256", "bodies.1.shape=\"box\"",
+                           "bodies.1.min=[0,-0.054603373587577]", "bodies.1.max=[0.5,0]"}).empty());
+}
+
 TEST(Sanity, InfoListsTheWarningsAndRunRefusesErrorsWithExit2) {
   const auto dir = test::scratch_dir("sanity_cli");
   const auto scene = dir / "s.json";
