@@ -909,6 +909,37 @@ struct FitAnswer {
 }  // namespace
 
 template <int D>
+double OpenBoundaries<D>::normal_gradient(const Zone& z, const Vec<D>& x, double t) const {
+  // The normal momentum balance of a buffer particle that moves with the prescribed u(x, t) n, u independent
+  // of the coordinate along n (so (u . grad) u = 0):  dp/dn = rho0 (g - du/dt) . n + mu lap u  (the pressure condition
+  // compatible with a prescribed velocity, Gresho & Sani 1987, Int. J. Numer. Meth. Fluids 7:1111-1145). Both
+  // derivatives by differences of the profile (exact for the 2D and pipe parabolas, whose lap u is constant):
+  // time +-1e-4 s (one-sided at t = 0), across the interface +-dx/10 along each tangent (buffer nodes lie half
+  // a spacing or more inside the zone, where every profile is smooth).
+  const Vec<D> n = normal(z);
+  const double dt = 1e-4, t0 = std::max(0.0, t - dt);
+  const double dudt = double(n.dot(inflow(z, x, t + dt) - inflow(z, x, t0))) / (t + dt - t0);
+  double lap = 0;
+  if (scene_.laminar_viscosity) {
+    const double h = 0.1 * scene_.spacing;
+    const double u0 = double(n.dot(inflow(z, x, t)));
+    for (int k = 0; k + 1 < D; ++k) {  // the tangents: an oblique zone's, else the axes across the direction
+      Vec<D> e = Vec<D>::Zero();
+      if (z.oblique)
+        e = z.t[std::size_t(k)];
+      else
+        e[(z.axis + 1 + k) % D] = Real(1);
+      const Vec<D> d = Real(h) * e;
+      lap += (double(n.dot(inflow(z, x + d, t))) - 2 * u0 + double(n.dot(inflow(z, x - d, t)))) / (h * h);
+    }
+  }
+  const double mu = scene_.laminar_viscosity ? scene_.nu * scene_.rho0 : 0.0;
+  double gn = 0;  // the body force along n (hydrostatic part)
+  for (int a = 0; a < D; ++a) gn += scene_.gravity[std::size_t(a)] * double(n[a]);
+  return scene_.rho0 * (gn - dudt) + mu * lap;
+}
+
+template <int D>
 void OpenBoundaries<D>::impose(Simulation<D>& sim) {
   auto& f = sim.fields();
   const auto& s = scene_;
@@ -1036,8 +1067,16 @@ void OpenBoundaries<D>::impose(Simulation<D>& sim) {
         ok = fit_at(xg, fit);
       }
       if (ok) {
-        // density to first order: rho_g + (x - x_g) . grad rho_g (Tafuni 2018 eq. 20)
-        if (need_rho) rhoi = Real(fit.value(0) + fit.gradient(0).dot((x[i] - xg).template cast<double>()));
+        if (need_rho && z.inlet) {
+          // an inlet's pressure (issue 32, the wall-corner runaway): the ghost node's value, carried to the buffer
+          // particle with the normal gradient of the buffer's own momentum balance, not the fluid's
+          // (normal_gradient: the compatibility condition of a prescribed velocity, Gresho & Sani 1987)
+          const double dn = double(normal(z).dot(x[i] - xg));
+          rhoi = eos.density(Real(double(eos.pressure(Real(fit.value(0)))) + dn * normal_gradient(z, x[i], t)));
+        } else if (need_rho) {
+          // density to first order: rho_g + (x - x_g) . grad rho_g (Tafuni 2018 eq. 20)
+          rhoi = Real(fit.value(0) + fit.gradient(0).dot((x[i] - xg).template cast<double>()));
+        }
         // velocity with zero gradient: the ghost node's value (Tafuni 2018 eq. 21)
         if (need_v)
           for (int a = 0; a < D; ++a) vi[a] = Real(fit.value(1 + a));

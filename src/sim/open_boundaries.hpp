@@ -20,9 +20,11 @@
 //    sec. 3.1), placed there in the step's sort (place_buffers) so the grid is that of the final
 //    positions, and after the step gets
 //      inlet:  the prescribed velocity u(x, t) along the direction (uniform, 2D parabolic, or a time
-//              series), and the density extrapolated from its ghost node x_g = x - 2 s n (its mirror
-//              image across the interface, s < 0 its signed distance) to first order,
-//              rho = rho_g + (x - x_g) . grad rho_g (Tafuni eq. 20), or the density of a prescribed pressure;
+//              series), and the pressure of its ghost node x_g = x - 2 s n (its mirror image across the
+//              interface, s < 0 its signed distance; the first-order fit's value p_g) carried along n with the
+//              buffer's own momentum balance, p = p_g + (x - x_g) . n dp/dn, dp/dn = rho0 (g - du/dt) . n +
+//              mu lap u (Gresho & Sani 1987; Tafuni's eq. 20, the fluid's own gradient, ran away next to
+//              no-slip walls: issue 32), or the density of a prescribed pressure;
 //      outlet: the velocity of its ghost node (zero gradient, Tafuni eq. 21) and the density of the
 //              prescribed pressure (default 0 Pa), or the extrapolated one.
 //  - Transitions, in storage order after every step: an inlet buffer particle that crossed the interface
@@ -131,6 +133,16 @@ class OpenBoundaries {
     return z.oblique ? z.n.dot(x - z.c) : z.sign * (x[z.axis] - z.face);
   }
   bool beside(const Zone& z, const Vec<D>& x) const;  // within the box's extent across the direction
+  // the unit direction into the fluid
+  Vec<D> normal(const Zone& z) const {
+    if (z.oblique) return z.n;
+    Vec<D> n = Vec<D>::Zero();
+    n[z.axis] = z.sign;
+    return n;
+  }
+  // An inlet buffer particle's pressure gradient along the direction from its own momentum balance with the
+  // prescribed velocity: rho0 (g - du/dt) . n + mu lap u [Pa/m] (the pressure extrapolated from the ghost node).
+  double normal_gradient(const Zone& z, const Vec<D>& x, double t) const;
   Vec<D> inflow(const Zone& z, const Vec<D>& x, double t) const;
   // InputError naming the first outlet that no inlet reaches through the domain (walls in between).
   void check_outlets_reachable(Simulation<D>& sim) const;
