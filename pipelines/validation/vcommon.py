@@ -102,6 +102,16 @@ def run(scene, outdir, sets=None, threads=2, timeout=None, extra=()):
     return RunResult(rc, outdir, wall, so, se, l0, loadavg())
 
 
+def run_generated(scene, outdir, threads=2, timeout=None):
+    """Writes a generated scene (a dict) as NAME.json in the folder above OUTDIR, where its relative files (a paddle
+    file, a profile) are looked for, and runs it into OUTDIR; returns the RunResult."""
+    os.makedirs(outdir, exist_ok=True)
+    path = os.path.join(os.path.dirname(os.path.abspath(outdir)), scene["name"] + ".json")
+    with open(path, "w") as f:
+        json.dump(scene, f, indent=1)
+    return run(path, outdir, threads=threads, timeout=timeout)
+
+
 def info(scene, sets=None):
     cmd = [varsph_binary(), "info", scene] + set_args(sets)
     p = subprocess.run(cmd, capture_output=True, text=True)

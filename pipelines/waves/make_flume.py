@@ -61,10 +61,14 @@ def to_3d(scene, width):
 
 
 def flume(name, paddle, h, H, kh, per_height, periods, damping=True, zone_lengths=1.0, order=1, awas=None,
-          h_over_dx=1.414, ramp_periods=2.0, zone_at=2.1, gauges=(1.0, 1.25, 1.5, 2.0)):
+          h_over_dx=1.414, ramp_periods=2.0, zone_at=2.1, gauges=(1.0, 1.25, 1.5, 2.0), digits=6):
     """zone_at: where the damping zone starts, in wavelengths from the paddle (the far wall follows it after
     zone_lengths L); gauges beyond it are dropped. h_over_dx above 1.5 gives the walls, bed and paddle 4 layers
-    (Wendland C2's support 2 h must lie inside them: 3.4 dx at 1.7), else 3."""
+    (Wendland C2's support 2 h must lie inside them: 3.4 dx at 1.7), else 3. digits: decimals of the lengths
+    written; a spacing that is not a round number needs more than 6, or a wall 4 dx thick rounds below 4 dx and
+    the sampler fits only 3 layers in it (the fixed scenes have dx = 8 or 4 mm and keep 6)."""
+    def r(x, n=digits):
+        return round(x, max(n, digits))
     k = kh / h
     omega = math.sqrt(9.81 * k * math.tanh(kh))
     T = 2 * math.pi / omega

@@ -583,7 +583,9 @@ class Backend final : public DeviceBackend<D> {
   }
   void eval_midpoint(int iv, Real dt_rho, Vec<D>* a_out) {
     launch_.copy(real(irho1_), real(irho_), n_ * sizeof(Real));
-    const View base = view(imid_, iv, irho_, ip_, false);
+    // extrapolated walls: their state of q_k (variational_step) and the velocities the viscosity sees, as the
+    // host's VariationalIntegrator::eval_midpoint
+    const View base = view(imid_, iv, irho_, ip_, true);
     if (summation_) {
       sum_fn_(*this, base, real(irho1_));  // seed eq. (20)/(30) at the midpoint
     } else {
@@ -591,7 +593,7 @@ class Backend final : public DeviceBackend<D> {
       launch_.for_each(n_, DensityStepBody{real(irho1_), real(irho_), real(idrho1_), kind(), dt_rho, dynamic_walls_});
     }
     launch_.for_each(n_, PressureBody{real(ip1_), real(irho1_), s_.eos});  // eq. (26)-(27), (35)-(36)
-    acc_fn_(*this, view(imid_, iv, irho1_, ip1_, false), a_out, s_.variational_explicit ? wall_ : no_wall_);
+    acc_fn_(*this, view(imid_, iv, irho1_, ip1_, true), a_out, s_.variational_explicit ? wall_ : no_wall_);
   }
   void compute_gamma() {
     if (!s_.variational_wall) return;
@@ -669,6 +671,9 @@ class Backend final : public DeviceBackend<D> {
     double dt = choose_dt() / double(1L << st.halvings);
     if (dt != st.dt_prev && !s_.variational_explicit) rebuild_previous(st.dt_prev, dt);  // regrowth, CFL change, restart
     host_.set_dt(dt);
+    // dummy walls extrapolated from the fluid at q_k once per step, where Gamma_k is evaluated (the host's
+    // VariationalIntegrator::loads_at_qk)
+    if (adami_) update_pressure();
     compute_gamma();
     DeviceStepReport rep;
     std::string history;

@@ -124,13 +124,15 @@ bool VariationalIntegrator<D>::ensure_skin(Simulation<D>& sim, Real displacement
   for (const Real skin : {std::max(Real(2) * old, Real(4) * displacement), Real(2.0001) * displacement}) {
     try {
       sim.set_skin(skin);
-      sim.sort_and_bin();  // every registered field (scratch included) follows the permutation
+      // the same configuration q_k re-binned (every registered field, scratch included, follows the
+      // permutation); not sort_and_bin(), which would move walls and open-boundary buffers to t_{k+1}
+      sim.rebin();
       return true;
     } catch (const InputError&) {  // cells too large for a (periodic) domain: the step moves too far
     }
   }
   sim.set_skin(old);
-  sim.sort_and_bin();
+  sim.rebin();
   return false;
 }
 
@@ -177,20 +179,39 @@ void VariationalIntegrator<D>::eval_midpoint(Simulation<D>& sim, std::span<const
   Real* rho1 = rho1_->data.data();
   Real* p1 = p1_->data.data();
   const Real* rho = f.rho.data.data();
-  const physics::ParticleView<D> base{mid_->data, v, f.rho.data, f.p.data, f.mass.data, f.kind.data};
+  // extrapolated walls (dummy / mDBC): their state of q_k (loads_at_qk), with the velocities the viscosity sees
+  const auto with_walls = [&](physics::ParticleView<D> view) {
+    const auto cur = sim.current_view();
+    view.wall_v = cur.wall_v;
+    view.normal = cur.normal;
+    return view;
+  };
+  const physics::ParticleView<D> base =
+      with_walls({mid_->data, v, f.rho.data, f.p.data, f.mass.data, f.kind.data});
+  // open-boundary buffer particles keep their imposed density (held like walls; null without open boundaries)
+  const std::int32_t* held = sim.open_zones();
   if (summation_) {
     for_each_particle(n, [&](std::size_t i) { rho1[i] = rho[i]; });  // the slots the pass leaves alone
     fluid_rates_->summation_density(grid, base, rho1);  // seed eq. (20)/(30) at the midpoint
+    if (held)
+      for_each_particle(n, [&](std::size_t i) {
+        if (held[i] >= 0) rho1[i] = rho[i];
+      });
   } else {
     Real* drho = drho1_->data.data();
     fluid_rates_->density_rate(grid, base, drho);  // eq. (67)-(68), standard sign
     const std::int32_t* kind = f.kind.data.data();
     const bool walls = sim.params().boundary == physics::BoundaryModel::Dynamic;
-    for_each_particle(n, [&](std::size_t i) { rho1[i] = (kind[i] == 0 || walls) ? rho[i] + dt_rho * drho[i] : rho[i]; });
+    if (held)
+      for_each_particle(n, [&](std::size_t i) {
+        rho1[i] = ((kind[i] == 0 && held[i] < 0) || (kind[i] != 0 && walls)) ? rho[i] + dt_rho * drho[i] : rho[i];
+      });
+    else
+      for_each_particle(n, [&](std::size_t i) { rho1[i] = (kind[i] == 0 || walls) ? rho[i] + dt_rho * drho[i] : rho[i]; });
   }
   const auto eos = sim.eos();
   for_each_particle(n, [&](std::size_t i) { p1[i] = eos.pressure(rho1[i]); });  // eq. (26)-(27), (35)-(36)
-  const physics::ParticleView<D> s{mid_->data, v, rho1_->data, p1_->data, f.mass.data, f.kind.data};
+  const physics::ParticleView<D> s = with_walls({mid_->data, v, rho1_->data, p1_->data, f.mass.data, f.kind.data});
   fluid_rates_->acceleration(grid, s, a_out);  // eq. (64)/(65) without Gamma
   team_single([&] { eval_v_ = v; });
 }
@@ -207,6 +228,9 @@ void VariationalIntegrator<D>::body_midpoint_loads(Simulation<D>& sim, bool repl
 
 template <int D>
 void VariationalIntegrator<D>::loads_at_qk(Simulation<D>& sim) {
+  // dummy / mDBC walls: pressure, density and no-slip velocity extrapolated from the fluid at q_k, where eq.
+  // (64)-(65) evaluate the boundary (Gamma_k); held through the step's midpoints like the walls' positions
+  if (sim.walls_extrapolated()) sim.update_pressure();
   compute_gamma(sim);
   if (auto* bodies = sim.rigid_bodies()) bodies->variational_begin(sim, has_wall_);
 }
@@ -245,6 +269,19 @@ void VariationalIntegrator<D>::rebuild_previous(Simulation<D>& sim, double dt_ol
 }
 
 template <int D>
+void VariationalIntegrator<D>::hold_buffers(Simulation<D>& sim, Vec<D>* v_out) {
+  // open-boundary buffer particles: prescribed kinematics (Tafuni 2018 sec. 3.1: x_{k+1} = x_k + dt v0, v0 the
+  // velocity imposed after the last step), so their chord v_{k+1/2} is v0 = the stored v, held through the
+  // iteration like a boundary particle's; they still move to every midpoint with it (make_midpoint)
+  const std::int32_t* held = sim.open_zones();
+  if (!held) return;  // no open boundaries: nothing to hold
+  const Vec<D>* v = sim.fields().v.data.data();
+  for_each_particle(sim.size(), [&](std::size_t i) {
+    if (held[i] >= 0) v_out[i] = v[i];
+  });
+}
+
+template <int D>
 bool VariationalIntegrator<D>::apply_F(Simulation<D>& sim, Real dt, std::span<const Vec<D>> v_in, Vec<D>* v_out) {
   auto& f = sim.fields();
   if (make_midpoint(sim, v_in, Real(alpha_) * dt) < 0) return false;  // (1-alpha) q_k + alpha q_{k+1}, eq. (20)-(21)
@@ -259,6 +296,7 @@ bool VariationalIntegrator<D>::apply_F(Simulation<D>& sim, Real dt, std::span<co
     // eq. (63) in velocity form: v_{k+1/2} = v_{k-1/2} + dt [(1-alpha) a1 + alpha a2 + Gamma_k]
     v_out[i] = kind[i] == 0 ? Vec<D>(v[i] + dt * (w1 * a1[i] + w2 * a2[i] + g[i])) : v[i];
   });
+  hold_buffers(sim, v_out);
   if (auto* bodies = sim.rigid_bodies()) {  // the bodies' trial step from the reaction of this a1
     body_midpoint_loads(sim, false);
     bodies->variational_trial(sim, dt, alpha_, false, v_out);
@@ -295,6 +333,7 @@ bool VariationalIntegrator<D>::solve(Simulation<D>& sim, Real dt, StepReport& re
     } else {
       for_each_particle(n, [&](std::size_t i) { vi[i] = kind[i] == 0 ? Vec<D>(v[i] + dt * (a2[i] + g[i])) : v[i]; });
     }
+    hold_buffers(sim, vi);
     if (auto* bodies = sim.rigid_bodies()) bodies->variational_trial(sim, dt, alpha_, true, vi);  // R1 ~ R2
   }
   int diverging = 0;
@@ -452,8 +491,9 @@ double VariationalIntegrator<D>::estimate_contraction(Simulation<D>& sim) {
     if (!ensure_skin(sim, Real(1.1) * Real(alpha_) * dt * vmax + Real(1e-9) * Real(sim.scene().spacing))) return 0;
   }
   std::vector<Vec<D>> v0(n), base(n), dir(n);  // setup-time only
+  const std::int32_t* held = sim.open_zones();  // buffer particles: their prescribed chord, never perturbed
   for (std::size_t i = 0; i < n; ++i)
-    v0[i] = f.kind[i] == 0 ? Vec<D>(f.v[i] + dt * (a2_->data[i] + gamma_->data[i])) : f.v[i];
+    v0[i] = f.kind[i] == 0 && !(held && held[i] >= 0) ? Vec<D>(f.v[i] + dt * (a2_->data[i] + gamma_->data[i])) : f.v[i];
   std::copy(v0.begin(), v0.end(), vit_->data.begin());  // keeps the field's ghost slots
   if (!apply_F(sim, dt, vit_->data, vnew_->data.data())) return 0;
   std::copy(vnew_->data.begin(), vnew_->data.begin() + std::ptrdiff_t(n), base.begin());
@@ -462,7 +502,7 @@ double VariationalIntegrator<D>::estimate_contraction(Simulation<D>& sim) {
   for (std::size_t i = 0; i < n; ++i) {
     Vec<D> d;
     for (int a = 0; a < D; ++a) d[a] = Real(std::sin(double(f.id[i]) * 12.9898 + a * 78.233));
-    dir[i] = f.kind[i] == 0 ? Vec<D>(eps * d.normalized()) : Vec<D>::Zero();
+    dir[i] = f.kind[i] == 0 && !(held && held[i] >= 0) ? Vec<D>(eps * d.normalized()) : Vec<D>::Zero();
   }
   double c = 0;
   for (int it = 0; it < 8; ++it) {

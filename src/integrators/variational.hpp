@@ -83,6 +83,8 @@ class VariationalIntegrator final : public Integrator<D> {
   void rebuild_previous(Simulation<D>& sim, double dt_old, double dt_new);
   // One fixed-point solve for the step dt; true when converged (or explicit / fixed count).
   bool solve(Simulation<D>& sim, Real dt, StepReport& rep, std::string& history);
+  // Open boundaries: the buffer particles' entries of a velocity iterate set to their prescribed chord.
+  void hold_buffers(Simulation<D>& sim, Vec<D>* v_out);
   // F applied to the velocity iterate v_in -> v_out (one evaluation of a1).
   bool apply_F(Simulation<D>& sim, Real dt, std::span<const Vec<D>> v_in, Vec<D>* v_out);
 

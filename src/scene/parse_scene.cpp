@@ -218,13 +218,21 @@ Scene parse_scene_json(json root, const std::filesystem::path& file, const std::
   if (c0 && c0->is_number()) {
     s.c0 = r.positive("fluid.c0", std::nullopt, "speed of sound c0 [m/s]");
     s.c0_rule = "given";
+    // with a given c0 the scales only inform the scene check's Mach warning (scene/sanity.cpp)
+    if (r.has("fluid.reference_height"))
+      s.reference_height = r.number("fluid.reference_height", 0.0, 0, kInf, "height H of the fluid [m]");
+    if (r.has("fluid.reference_speed"))
+      s.reference_speed = r.number("fluid.reference_speed", 0.0, 0, kInf, "largest expected speed [m/s]");
   } else {
     if (c0 && !(c0->is_string() && c0->get<std::string>() == "auto"))
       r.fail_got("fluid.c0", "a positive number [m/s] or \"auto\"", *c0);
     r.text("fluid.c0", "auto");
     const double factor = r.positive("fluid.c0_factor", 10.0, "c0 factor");
+    const bool named_h = r.has("fluid.reference_height"), named_u = r.has("fluid.reference_speed");
     const double H = r.number("fluid.reference_height", fluid_height, 0, kInf, "height H of the fluid [m]");
     const double u_ref = r.number("fluid.reference_speed", 0.0, 0, kInf, "largest expected speed [m/s]");
+    if (named_h) s.reference_height = H;
+    if (named_u) s.reference_speed = u_ref;
     const double u = std::max(std::sqrt(2 * g * H), u_ref);
     if (!(u > 0))
       r.fail("fluid.c0", "a number, or gravity and a fluid height / fluid.reference_speed for \"auto\"");

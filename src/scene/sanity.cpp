@@ -92,13 +92,26 @@ struct Rules {
     if (s.c0 > L::c0_warning)
       warn("fluid.c0", "c0 = " + num(s.c0) + " m/s is above the sound speed of any liquid (water: 1480 m/s); "
                            "weakly-compressible SPH uses about 10 x the largest flow speed, and dt shrinks with 1/c0");
-    double H, u0;
-    fluid_scales(H, u0);
-    const double u = std::max(std::sqrt(2 * norm(s.gravity) * H), u0);
+    double H_fluid, u0;
+    fluid_scales(H_fluid, u0);
+    const double g = norm(s.gravity);
+    // the flow speed: the scene's named reference speed (a still tank, a slow body), else the dam-break speed
+    // sqrt(2 g H) of the reference height or the fluid bodies' height; never below the initial velocities
+    const double H = s.reference_height >= 0 ? s.reference_height : H_fluid;
+    const bool named_u = s.reference_speed >= 0;
+    const double u = std::max(named_u ? s.reference_speed : std::sqrt(2 * g * H), u0);
     if (u > 0 && u > L::mach_warning * s.c0 * (1 + 1e-9))  // the auto rule's 10x sits exactly on the line
-      warn("fluid.c0", "c0 = " + num(s.c0) + " m/s is less than 10 x the expected flow speed " + num(u) +
-                           " m/s (max of sqrt(2 g H) and the initial velocities): Mach " + num(u / s.c0) +
+      warn("fluid.c0", "c0 = " + num(s.c0) + " m/s is less than 10 x the expected flow speed " + num(u) + " m/s (" +
+                           (named_u ? "max of fluid.reference_speed" : "max of sqrt(2 g H)") +
+                           " and the initial velocities): Mach " + num(u / s.c0) +
                            ", density errors above 1 % (Monaghan 1994 asks for Mach <= 0.1)");
+    // with a named speed the Mach rule no longer sees the column's weight: the hydrostatic compression
+    // g H / c0^2 of the Tait equation's linear part (seed paper eq. (11)) is checked on its own
+    const double squeeze = g * H_fluid / (s.c0 * s.c0);
+    if (named_u && squeeze > L::hydrostatic_warning)
+      warn("fluid.c0", "c0 = " + num(s.c0) + " m/s compresses the fluid's " + num(H_fluid) +
+                           " m column by g H / c0^2 = " + num(100 * squeeze) + " % at its bottom (more than " +
+                           num(100 * L::hydrostatic_warning) + " %)");
   }
 
   void domain() {
@@ -153,6 +166,28 @@ struct Rules {
     if (frames > L::frames_warning)
       warn("output.every", "output.every = " + num(s.output_every) + " s writes " + num(frames) + " frames");
   }
+
+  // A box holds floor(extent / dx) particles across (sim/build_particles.cpp cells_in): an extent a hair under a
+  // whole number of spacings (a length written with few digits) loses a whole layer and leaves a gap of nearly
+  // one spacing at its max side, a hole in a wall of `layers` particles that fluid can fall through.
+  void box_extents() {
+    using L = SanityLimits;
+    const double dx = s.spacing;
+    if (!(dx > 0)) return;
+    for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+      const auto& b = s.bodies[i];
+      if ((b.shape != "box" && b.shape != "tank") || b.min.size() != b.max.size()) continue;
+      for (std::size_t a = 0; a < b.min.size(); ++a) {
+        const double q = (b.max[a] - b.min[a]) / dx;
+        const double n = std::floor(q + 1e-6);  // the sampler's count
+        if (n >= 1 && q - n > L::box_extent_shortfall)
+          warn("bodies." + std::to_string(i) + ".max", "the " + b.shape + " is " + num(q) + " spacings long on axis " +
+                   std::to_string(a) + ": it holds " + num(n) + " particles across and leaves a gap of " + num(q - n) +
+                   " spacings at its max side; " + num(n + 1) + " spacings (min = " + num(b.max[a] - (n + 1) * dx) +
+                   " or max = " + num(b.min[a] + (n + 1) * dx) + ") was likely meant: write lengths with more digits");
+      }
+    }
+  }
 };
 
 }  // namespace
@@ -164,6 +199,7 @@ std::vector<std::string> check_sanity(const Scene& s) {
   r.sound_speed();
   r.domain();
   r.time_step();
+  r.box_extents();
   return std::move(r.warnings);
 }
 

@@ -19,6 +19,8 @@ struct SanityLimits {
   static constexpr double c0_error = 299792458;     // [m/s], the speed of light
   static constexpr double c0_warning = 1e4;         // [m/s], above the sound speed of any liquid
   static constexpr double mach_warning = 0.1;       // flow speed / c0 above this: density error > 1 %
+  static constexpr double hydrostatic_warning = 0.01;  // g H / c0^2 above this: the column squeezed by > 1 %
+  static constexpr double box_extent_shortfall = 0.99;  // a box this far past a whole number of spacings: a rounded length
   static constexpr double domain_cells_error = 1e9;  // domain extent / dx on one axis
   static constexpr double domain_empty_warning = 100;  // domain diagonal / bodies' diagonal
   static constexpr double courant_error = 100;      // c0 dt / h

@@ -158,6 +158,10 @@ struct Scene {
   double c0 = 0;               // resolved speed of sound [m/s]
   double background_pressure = 0;  // fluid.background_pressure [Pa]
   std::string c0_rule;         // how c0 was obtained
+  // fluid.reference_height / reference_speed as the scene names them (-1: not named): the c0 "auto" rule's
+  // scales, and with a given c0 the scene check's flow scales (scene/sanity.cpp, docs/scene.md)
+  double reference_height = -1;  // [m]
+  double reference_speed = -1;   // [m/s]
   std::vector<double> gravity;
 
   std::vector<BodySpec> bodies;

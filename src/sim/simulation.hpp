@@ -182,6 +182,12 @@ class Simulation {
   // Rigid bodies (scene bodies of kind "rigid"; bodies/rigid_bodies.hpp): null when the scene has none.
   bodies::RigidBodies<D>* rigid_bodies() { return bodies_.get(); }
   const bodies::RigidBodies<D>* rigid_bodies() const { return bodies_.get(); }
+  // Open boundaries: each particle's buffer zone (-1: not a buffer particle), or null when the scene has no
+  // open boundaries. Buffer particles are kind 0 with prescribed kinematics: an implicit integrator holds
+  // them (sim/open_boundaries.hpp). The pointer changes with every sort and growth: fetch it per loop.
+  const std::int32_t* open_zones() const { return open_zone_ ? open_zone_->data.data() : nullptr; }
+  // Whether the walls' state is extrapolated from the fluid (dummy Adami / mDBC: update_pressure does it).
+  bool walls_extrapolated() const { return wall_v_ != nullptr; }
   // Advances the rigid bodies by dt from the loads at the current state (integrators call it after the
   // fluid's forces, before their drift's sort_and_bin places the bodies' particles); `drift` as in
   // RigidBodies::advance. No-op without rigid bodies. Every thread of a step region calls it.

@@ -338,6 +338,12 @@ TEST(DeviceVsCpu, PeriodicChannelDummyWallsMolteniLaminar) {
              });
   compare_2d("hydrostatic_2d_adami.json", kSteps, 1.0, "hydrostatic tank, dummy walls, gravity ramp",
              [](nlohmann::json&) {});
+  // the variational integrator with dummy walls: the walls extrapolated at q_k once per step and their velocities in
+  // the midpoint views (issue 32), on both backends; the device's fixed point starts from the constant guess
+  setenv("VARSPH_VARIATIONAL_PREDICTOR", "constant", 1);
+  compare_2d("poiseuille_2d.json", kSteps, 1.0, "Poiseuille channel, dummy walls, laminar, variational alpha 0.5",
+             [](nlohmann::json& j) { j["integrator"] = {{"type", "variational"}, {"alpha", 0.5}, {"cfl", 0.2}}; });
+  unsetenv("VARSPH_VARIATIONAL_PREDICTOR");
 }
 
 // --- a fully periodic box (Taylor-Green vortex without shifting): momentum conserved to round-off ----------

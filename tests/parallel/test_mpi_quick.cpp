@@ -152,6 +152,21 @@ TEST(MpiQuick, OpenBoundariesOnTwoRanksEqualOneProcessBitwise) {
   EXPECT_GT(a.value(a.rows.size() - 1, "particles_created"), 0);
 }
 
+// The same channel under the variational integrator (pipelines/open/channel_poiseuille_variational.json): buffer
+// particles held through the fixed point (every iterate's convergence test over both ranks), particles created and
+// removed after each accepted step: one process's bits and flows on 2 ranks.
+TEST(MpiQuick, OpenBoundariesWithTheVariationalIntegratorOnTwoRanksEqualOneProcessBitwise) {
+  const auto dir = scratch_dir("mpi_quick_open_variational");
+  const auto scene =
+      write_scene(dir, nlohmann::json::parse(test::read_text(source_dir() / "pipelines/open/channel_poiseuille_variational.json")));
+  const std::string args = "--set time.end=0.3 --set output.every=0.1 --set output.precision=\\\"float64\\\"";
+  ASSERT_NO_FATAL_FAILURE(expect_two_ranks_equal_one_process(scene, dir, args, 1000));
+  const Csv a = read_csv(dir / "serial" / "diagnostics.csv");
+  EXPECT_GT(a.value(a.rows.size() - 1, "particles_created"), 0);
+  EXPECT_GT(a.value(a.rows.size() - 1, "removed_outlet"), 0);
+  EXPECT_GT(a.value(a.rows.size() - 1, "fp_iterations_mean"), 1.0);  // the fixed point iterated
+}
+
 // A free-surface inlet (a fixed water level, hydrostatic density, docs/open_boundaries.md) and an outlet on a
 // free-surface film: 2 ranks give one process's bits, flows and created ids included (the level is a filter on
 // creation decided per particle). The small film above.
