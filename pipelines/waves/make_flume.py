@@ -137,6 +137,8 @@ def main():
         flume("flap_flume_2d", "flap", 0.2, 0.04, 1.5, 10, 10),
         # the piston flume with active absorption at the paddle added (docs/waves.md), 20 periods
         flume("piston_flume_awas_2d", "piston", 0.2, 0.04, 1.5, 10, 20, awas={}),
+        # the flap flume with active absorption (the flap's gain, docs/waves.md "A flap"), 20 periods
+        flume("flap_flume_awas_2d", "flap", 0.2, 0.04, 1.5, 10, 20, awas={}),
         to_3d(flume("piston_basin_3d", "piston", 0.2, 0.04, 1.5, 5, 10), 0.096),
     ]
     for s in scenes:

@@ -200,7 +200,11 @@ void parse_wavemaker(const json& m, const std::string& where, const scene::Scene
         const auto guess = scene::closest_key(it.key(), {"gauge", "start", "gain", "drift_time"});
         throw InputError(aw + ": unknown key '" + it.key() + "'" + (guess ? " (did you mean '" + *guess + "'?)" : ""));
       }
-    if (flap) throw InputError(aw + ": active absorption is implemented for a piston only (no flap transfer of the correction)");
+    // a flap absorbs as a piston does at the still-water level (below: the flap's gain); hinged above the bed it
+    // would leave the water under the hinge still while a long reflected wave moves it: not implemented
+    if (flap && geo.hinge_height > 0.5 * sc->spacing)
+      throw InputError(where + ".hinge: active absorption (awas) needs a flap hinged at the bed or below it; the hinge is " +
+                       num(geo.hinge_height) + " m above the bed (limit: half a spacing, " + num(0.5 * sc->spacing) + " m)");
     if (waves_kind == "file")
       throw InputError(aw + ": needs a wave-theory signal (\"regular\", \"irregular\" or \"focused\") for its target "
                        "elevation; a paddle file gives none");
@@ -237,9 +241,18 @@ void parse_wavemaker(const json& m, const std::string& where, const scene::Scene
     }
     if (gain == "shallow") {
       A.gain = std::sqrt(g / depth);  // Schaffer & Klopman 2000, shallow water; Altomare et al. 2017 eq. 12
+      if (flap) {
+        // the flap's velocity at the still-water level U makes the depth-averaged velocity U (h/2 - l) / (h - l)
+        // (hinge l <= 0 above the bed; the displacement grows linearly from the hinge): matching it to the long
+        // reflected wave's sqrt(g/h) eta gives G = sqrt(g/h) (h - l) / (h/2 - l), 2 sqrt(g/h) on the bed. It is the
+        // kh -> 0 limit of omega / (H/S) with the flap's transfer function (docs/waves.md, "a flap").
+        const double l = std::min(geo.hinge_height, 0.0);
+        A.gain *= (depth - l) / (0.5 * depth - l);
+      }
     } else if (gain == "linear") {
-      // U = omega / (H/S) eta: the piston velocity that makes a wave eta at frequency omega (its shallow limit is
-      // sqrt(g/h)), at the regular wave's period or the spectrum's peak
+      // U = omega / (H/S) eta: the paddle velocity at the still-water level that makes a wave eta at frequency omega
+      // (its shallow limit is sqrt(g/h) for a piston, sqrt(g/h) (h - l) / (h/2 - l) for a flap), at the regular
+      // wave's period or the spectrum's peak
       const double T = waves_kind == "regular" ? number_of(m, where, "period", 1) : number_of(m, where, "tp", 1);
       const double w = 2 * std::numbers::pi / T, k = waves::wave_number(w, depth, g);
       A.gain = w / geo.transfer(k);
@@ -334,9 +347,18 @@ Eigen::Vector3d flap_axis() {
 }  // namespace
 
 template <int D>
-waves::PaddleState BoundaryMotion<D>::paddle_state(const MotionLaw<D>& law, double t) const {
+waves::PaddleState BoundaryMotion<D>::paddle_state(const MotionLaw<D>& law, double t, const AbsorptionState* c) const {
   const double tau = std::clamp(t, law.start, law.end) - law.start;
   waves::PaddleState s = law.paddle->at(tau);
+  if (c) {  // the absorption's correction, held at U_c over the step (also after `end`), added at the still-water level
+    if (!(t >= law.start && t <= law.end)) s.dq = s.ddq = 0;
+    s.q += c->shift + (t - c->t_ref) * c->u;
+    s.dq += c->u;
+    if (law.type != MotionLaw<D>::Type::Flap) return s;
+    // a flap: the corrected X(t) turns it by atan(X / a) (X'' the signal's, as the piston's acceleration)
+    const double a = law.arm, q2 = a * a + s.q * s.q;
+    return {std::atan2(s.q, a), a * s.dq / q2, a * s.ddq / q2 - 2 * a * s.q * s.dq * s.dq / (q2 * q2)};
+  }
   if (law.type == MotionLaw<D>::Type::Flap && !law.paddle_angle) {
     // theta = atan(X / a): the flap's top at the still-water level moves by X (a = h - l, its wetted arm)
     const double a = law.arm, q2 = a * a + s.q * s.q;
@@ -444,12 +466,7 @@ void BoundaryMotion<D>::apply(double t, Field<Vec<D>>& x, Field<Vec<D>>& v, Fiel
   // each wavemaker's signal once per call (a spectrum's hundreds of components are not summed per particle)
   for (std::size_t k = 0; k < laws_.size(); ++k) {
     if (!laws_[k].paddle) continue;
-    paddle_[k] = paddle_state(laws_[k], t);
-    if (laws_[k].awas.on) {  // the absorption's correction, held at U_c over the step (also after `end`)
-      const auto& s = awas_[k];
-      paddle_[k].q += s.shift + (t - s.t_ref) * s.u;
-      paddle_[k].dq += s.u;
-    }
+    paddle_[k] = paddle_state(laws_[k], t, laws_[k].awas.on ? &awas_[k] : nullptr);
   }
   const waves::PaddleState* paddle = paddle_.data();
   for_each_particle(x.size(), [&](std::size_t i) {
@@ -496,7 +513,8 @@ void BoundaryMotion<D>::absorb(double t, const std::function<double(double, doub
     auto& s = awas_[k];
     s.shift += (t - s.t_ref) * s.u;  // X_c(t): the same expression apply() evaluated at t (the same bits)
     s.t_ref = t;
-    const double X = paddle_state(law, t).q + s.shift;  // the paddle's displacement at t
+    // the paddle's displacement at t at the still-water level (a flap's face moves by X there, to O(theta^3))
+    const double X = law.paddle->at(std::clamp(t, law.start, law.end) - law.start).q + s.shift;
     const double lv = level(A.face + X + A.gauge, A.across);
     if (!s.have_level0) {  // the still-water reading removes the gauge's own offset (particle rows, kernel)
       s.level0 = lv;

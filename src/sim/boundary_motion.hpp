@@ -13,13 +13,15 @@
 //                phi = -theta about z (2D) / +theta about y (3D): the top moves towards +x for X > 0;
 //                v = phi' e x r,  a = phi'' e x r + phi' e x (phi' e x r)  (r = x - c)
 // Each law acts for start <= t <= end (before: at rest at x0; after: frozen where it stopped).
-// Active absorption at a piston (AWAS, `motion.awas`; docs/waves.md "Active absorption"): the paddle's signal X(t)
+// Active absorption at a piston or a flap (AWAS, `motion.awas`; docs/waves.md "Active absorption"): the paddle's signal X(t)
 // gets a correction X_c whose velocity is U_c = G (eta_T - eta_M) - X_c / T_d (Altomare et al. 2017, Coastal Eng.
 // 127, eq. 12, after Schaffer & Klopman 2000: G = sqrt(g/h) in the shallow-water form, omega / (H/S) in the linear
 // one; T_d the optional drift time), eta_T the linear-theory target and eta_M the elevation measured at a gauge a
 // distance `gauge` in front of the paddle's face. U_c is set once per step from the state at its start and held
 // over the step: X_c(t) = X_c(t_k) + (t - t_k) U_c, so the motion stays a function of t and of the correction's
 // state (t_k, X_c(t_k), U_c, the still-water reading), which checkpoints carry (save_state / restore_state).
+// A flap (hinged at the bed or below it) takes X + X_c as its displacement at the still-water level, theta =
+// atan((X + X_c) / (h - l)); its shallow gain is sqrt(g/h) (h - l) / (h/2 - l), matching its depth-averaged velocity.
 #include <functional>
 #include <memory>
 #include <vector>
@@ -49,7 +51,7 @@ struct MotionLaw {
   std::shared_ptr<const waves::PaddleSignal> paddle;
   bool paddle_angle = false;
   double arm = 0;
-  // active absorption (piston only; `motion.awas`)
+  // active absorption (a piston, or a flap hinged at the bed or below it; `motion.awas`)
   struct Absorption {
     bool on = false;
     double gain = 0;        // G [1/s]: sqrt(g/h) ("shallow") or omega/(H/S) at the (peak) period ("linear")
@@ -112,7 +114,8 @@ class BoundaryMotion {
   // Acceleration of a particle of a law at position x and time t (zero outside [start, end]).
   Vec<D> acceleration(const MotionLaw<D>& law, const waves::PaddleState& paddle, double t, const Vec<D>& x) const;
   // The paddle's angle state (theta, theta', theta'') of a flap, or its displacement state of a piston.
-  waves::PaddleState paddle_state(const MotionLaw<D>& law, double t) const;
+  // With an absorption state `c`, X(t) carries its correction (X + X_c, X' + U_c) before a flap's angle is taken.
+  waves::PaddleState paddle_state(const MotionLaw<D>& law, double t, const AbsorptionState* c = nullptr) const;
 
   std::vector<MotionLaw<D>> laws_;
   mutable std::vector<waves::PaddleState> paddle_;  // per law, at the time of the last apply()

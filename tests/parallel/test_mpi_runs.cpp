@@ -284,47 +284,51 @@ TEST(MpiRuns, WavemakerAndDampingZoneOnTwoAndThreeRanksEqualOneProcessBitwise) {
 // run.json says the column was split between ranks at some readings (else the test would prove nothing). Not
 // vacuous: without motion.awas the serial state differs, and the correction moved the paddle (X_c != 0).
 TEST(MpiRuns, ActiveAbsorptionOnTwoAndThreeRanksEqualsOneProcessBitwise) {
-  nlohmann::json j = small_flume(0.7);
-  j["bodies"][3]["motion"] = nlohmann::json::parse(
-      R"({"type": "piston", "waves": "regular", "height": 0.01, "period": 0.5, "ramp": 0, "awas": {"gain": "shallow"}})");
-  const std::string args = kFlumeArgs;
-  for (int n : {2, 3}) {
-    nlohmann::json k = j;
-    const double gauge = n == 2 ? 0.5 : 0.34;  // near the cut of the water into n boxes
-    k["bodies"][3]["motion"]["awas"]["gauge"] = gauge;
-    const std::string tag = "awas_ranks" + std::to_string(n);
-    const auto dir = scratch_dir("mpi_" + tag);
-    const auto scene = write_scene(dir, k);
-    const auto serial = run_varsph(0, scene, dir / "serial", args);
-    ASSERT_EQ(serial.exit_code, 0) << serial.output;
-    const auto steps = nlohmann::json::parse(read_text(dir / "serial" / "run.json")).at("timings").at("steps").get<long>();
-    EXPECT_GE(steps, 250) << tag;
-    const auto ref = io::read_checkpoint(last_checkpoint(dir / "serial"));
-    ASSERT_TRUE(ref.header.integrator_state.contains("wavemaker_absorption")) << tag;
-    const auto& st = ref.header.integrator_state.at("wavemaker_absorption");
-    ASSERT_EQ(st.size(), 1u);
-    EXPECT_NE(st[0].at("shift").get<std::string>(), "0000000000000000") << tag << ": the correction never moved the paddle";
-    {  // not vacuous: the same run without active absorption ends in another state
-      nlohmann::json w = k;
-      w["bodies"][3]["motion"].erase("awas");
-      const auto other = dir / "serial_without_awas";
-      const auto r = run_varsph(0, write_scene(scratch_dir("mpi_" + tag + "_without"), w), other, args);
+  for (const char* paddle : {"piston", "flap"}) {  // the flap: its correction turned into an angle (docs/waves.md)
+    nlohmann::json j = small_flume(0.7);
+    j["bodies"][3]["motion"] = nlohmann::json::parse(
+        R"({"type": "piston", "waves": "regular", "height": 0.01, "period": 0.5, "ramp": 0, "awas": {"gain": "shallow"}})");
+    j["bodies"][3]["motion"]["type"] = paddle;
+    if (std::string(paddle) == "flap") j["bodies"][3]["motion"]["hinge"] = {-0.015, 0.0};
+    const std::string args = kFlumeArgs;
+    for (int n : {2, 3}) {
+      nlohmann::json k = j;
+      const double gauge = n == 2 ? 0.5 : 0.34;  // near the cut of the water into n boxes
+      k["bodies"][3]["motion"]["awas"]["gauge"] = gauge;
+      const std::string tag = std::string(paddle) + "_awas_ranks" + std::to_string(n);
+      const auto dir = scratch_dir("mpi_" + tag);
+      const auto scene = write_scene(dir, k);
+      const auto serial = run_varsph(0, scene, dir / "serial", args);
+      ASSERT_EQ(serial.exit_code, 0) << serial.output;
+      const auto steps = nlohmann::json::parse(read_text(dir / "serial" / "run.json")).at("timings").at("steps").get<long>();
+      EXPECT_GE(steps, 250) << tag;
+      const auto ref = io::read_checkpoint(last_checkpoint(dir / "serial"));
+      ASSERT_TRUE(ref.header.integrator_state.contains("wavemaker_absorption")) << tag;
+      const auto& st = ref.header.integrator_state.at("wavemaker_absorption");
+      ASSERT_EQ(st.size(), 1u);
+      EXPECT_NE(st[0].at("shift").get<std::string>(), "0000000000000000") << tag << ": the correction never moved the paddle";
+      {  // not vacuous: the same run without active absorption ends in another state
+        nlohmann::json w = k;
+        w["bodies"][3]["motion"].erase("awas");
+        const auto other = dir / "serial_without_awas";
+        const auto r = run_varsph(0, write_scene(scratch_dir("mpi_" + tag + "_without"), w), other, args);
+        ASSERT_EQ(r.exit_code, 0) << r.output;
+        EXPECT_GT(compare_states(last_checkpoint(dir / "serial"), last_checkpoint(other)).differing, 100) << tag;
+      }
+      const auto out = dir / ("ranks" + std::to_string(n));
+      const auto r = run_varsph(n, scene, out, args);
       ASSERT_EQ(r.exit_code, 0) << r.output;
-      EXPECT_GT(compare_states(last_checkpoint(dir / "serial"), last_checkpoint(other)).differing, 100) << tag;
+      const auto run = nlohmann::json::parse(read_text(out / "run.json"));
+      EXPECT_GT(run.at("parallel").at("absorption_gauge_split_readings").get<long>(), 0)
+          << tag << ": the gauge's column never lay on two ranks (move the gauge to the cut)";
+      const StateDiff d = compare_states(last_checkpoint(dir / "serial"), last_checkpoint(out));
+      EXPECT_TRUE(d.same_header) << tag << ": step, time, dt or the correction's state differ";
+      EXPECT_GT(d.particles, 1000);
+      EXPECT_EQ(d.differing, 0) << tag << ": " << d.first << " (max |diff| " << d.max_abs << ")";
+      const auto par = io::read_checkpoint(last_checkpoint(out));
+      EXPECT_EQ(par.header.integrator_state.at("wavemaker_absorption"), st) << tag;
+      expect_same_tables(dir / "serial", out, n);
     }
-    const auto out = dir / ("ranks" + std::to_string(n));
-    const auto r = run_varsph(n, scene, out, args);
-    ASSERT_EQ(r.exit_code, 0) << r.output;
-    const auto run = nlohmann::json::parse(read_text(out / "run.json"));
-    EXPECT_GT(run.at("parallel").at("absorption_gauge_split_readings").get<long>(), 0)
-        << tag << ": the gauge's column never lay on two ranks (move the gauge to the cut)";
-    const StateDiff d = compare_states(last_checkpoint(dir / "serial"), last_checkpoint(out));
-    EXPECT_TRUE(d.same_header) << tag << ": step, time, dt or the correction's state differ";
-    EXPECT_GT(d.particles, 1000);
-    EXPECT_EQ(d.differing, 0) << tag << ": " << d.first << " (max |diff| " << d.max_abs << ")";
-    const auto par = io::read_checkpoint(last_checkpoint(out));
-    EXPECT_EQ(par.header.integrator_state.at("wavemaker_absorption"), st) << tag;
-    expect_same_tables(dir / "serial", out, n);
   }
 }
 
