@@ -29,6 +29,7 @@
 #include "sim/open_boundaries.hpp"
 #include "sim/restart.hpp"
 #include "sim/simulation.hpp"
+#include "open_bitwise_support.hpp"
 #include "test_support.hpp"
 
 using namespace varsph;
@@ -171,17 +172,9 @@ scene::Scene channel(const std::vector<std::string>& sets = {}) {
   return scene::parse_scene_json(channel_json(), "open_channel_variational.json", sets);
 }
 
-std::vector<std::byte> field_bytes(const Simulation<2>& sim) {
-  std::vector<std::byte> out;
-  for (const auto& f : sim.store().fields()) {
-    static const std::set<std::string> state = {"position", "velocity", "density", "pressure", "mass", "id", "kind",
-                                                "open_zone", "variational_a2"};
-    if (!state.count(f->name())) continue;
-    const auto* p = static_cast<const std::byte*>(f->raw());
-    out.insert(out.end(), p, p + f->bytes_per_particle() * sim.size());
-  }
-  return out;
-}
+// the state that must come out bitwise equal (tests/support/open_bitwise_support.hpp)
+const std::set<std::string> kState = {"position", "velocity", "density", "pressure", "mass", "id", "kind",
+                                       "open_zone", "variational_a2"};
 
 #endif
 
@@ -263,40 +256,10 @@ TEST(OpenVariational, FlowThroughHoldsBuffersAndClosesTheMassBalance) {
   EXPECT_EQ(in, 30u);  // every inlet column keeps its 3 lattice particles
 }
 
-TEST(OpenVariational, ThreadsGiveTheSameBits) {
-  const int before = omp_get_max_threads();
-  std::vector<std::byte> a, b;
-  for (int threads : {1, 2}) {
-    omp_set_num_threads(threads);
-    Simulation<2> sim(channel());
-    for (int s = 0; s < 120; ++s) sim.advance();
-    (threads == 1 ? a : b) = field_bytes(sim);
-    EXPECT_GT(sim.flow().created, 0);
-  }
-  omp_set_num_threads(before);
-  ASSERT_EQ(a.size(), b.size());
-  EXPECT_TRUE(a == b);
-}
+TEST(OpenVariational, ThreadsGiveTheSameBits) { test::expect_open_threads_bitwise(channel(), kState); }
 
 TEST(OpenVariational, RestartFromACheckpointIsBitwise) {
-  const auto dir = std::filesystem::temp_directory_path() / ("varsph_open_var_restart_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / "step.h5";
-  Simulation<2> a(channel());
-  for (int s = 0; s < 80; ++s) a.advance();
-  io::write_checkpoint(path, checkpoint_header(a, nlohmann::json::object()), a.store());
-  for (int s = 0; s < 80; ++s) a.advance();
-  Simulation<2> b(channel());
-  restore_from_checkpoint(b, io::read_checkpoint(path), path.string());
-  for (int s = 0; s < 80; ++s) b.advance();
-  EXPECT_GT(a.flow().created, 0);
-  EXPECT_EQ(a.next_id(), b.next_id());
-  EXPECT_EQ(a.flow().created, b.flow().created);
-  EXPECT_EQ(a.flow().mass_in, b.flow().mass_in);
-  EXPECT_EQ(a.time(), b.time());
-  ASSERT_EQ(a.size(), b.size());
-  EXPECT_TRUE(field_bytes(a) == field_bytes(b));
-  std::filesystem::remove_all(dir);
+  test::expect_open_restart_bitwise(channel(), kState, "open_var_restart");
 }
 
 TEST(OpenVariational, MultiStageSchemesAreStillRefusedNamingTheKey) {
