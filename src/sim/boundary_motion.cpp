@@ -200,8 +200,8 @@ void parse_wavemaker(const json& m, const std::string& where, const scene::Scene
         const auto guess = scene::closest_key(it.key(), {"gauge", "start", "gain", "drift_time"});
         throw InputError(aw + ": unknown key '" + it.key() + "'" + (guess ? " (did you mean '" + *guess + "'?)" : ""));
       }
-    // a flap absorbs as a piston does at the still-water level (below: the flap's gain); hinged above the bed it
-    // would leave the water under the hinge still while a long reflected wave moves it: not implemented
+    // a flap absorbs as a piston does at the still-water level (below: the flap's gain). A flap hinged above the
+    // bed cannot absorb a long wave (the water under its hinge has no paddle to move it), so it is refused here
     if (flap && geo.hinge_height > 0.5 * sc->spacing)
       throw InputError(where + ".hinge: active absorption (awas) needs a flap hinged at the bed or below it; the hinge is " +
                        num(geo.hinge_height) + " m above the bed (limit: half a spacing, " + num(0.5 * sc->spacing) + " m)");
